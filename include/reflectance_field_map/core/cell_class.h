@@ -1,0 +1,31 @@
+#pragma once
+
+#include <cstdint>
+
+namespace rfm {
+
+// What the map says about a 2D cell.
+enum class CellClass : uint8_t {
+  kUnknown = 0,  // never observed
+  kFree = 1,     // observed as missed and not an obstacle
+  kStatic = 2,   // obstacle, widely visible (walls, frames, pane edges)
+  kGlass = 3,    // obstacle, reflective only near its normal and attached to a static cell
+  kMetal = 4,    // like glass, with a wider reflective lobe
+  kMotion = 5,   // reflective evidence left by a moving object: not an obstacle
+  kOccupied = 6, // obstacle not yet classified by motion removal
+};
+
+inline bool isObstacle(CellClass c) {
+  return c == CellClass::kStatic || c == CellClass::kGlass || c == CellClass::kMetal ||
+         c == CellClass::kOccupied;
+}
+
+// nav_msgs/OccupancyGrid value: -1 unknown, 0 free, 100 occupied; motion counts as free.
+inline int8_t occupancyValue(CellClass c) {
+  if (c == CellClass::kUnknown) return -1;
+  return isObstacle(c) ? 100 : 0;
+}
+
+const char* toString(CellClass c);
+
+}  // namespace rfm

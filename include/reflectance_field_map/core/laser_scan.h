@@ -1,0 +1,52 @@
+#pragma once
+
+#include "reflectance_field_map/core/grid_geometry.h"
+#include "reflectance_field_map/core/options.h"
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace rfm {
+
+// A planar scan in the sensor frame, as sensor_msgs/LaserScan without ROS.
+struct LaserScan2D {
+  float angle_min = 0.0f;        // rad, first beam
+  float angle_increment = 0.0f;  // rad between beams (> 0)
+  float range_min = 0.0f;        // m
+  float range_max = 0.0f;        // m
+  std::vector<float> ranges;     // REP-117: +inf no return, -inf too close, NaN invalid
+
+  // Empty when usable, otherwise why not (malformed geometry).
+  std::string validate() const;
+};
+
+// One beam ready for insertion, in the fixed frame.
+struct Ray {
+  Eigen::Vector2d origin;
+  Eigen::Vector2d end;  // hit point, or the end of the cleared stretch when !hit
+  double angle = 0.0;   // direction of travel, rad
+  uint32_t beam = 0;    // index in its scan
+  bool hit = false;     // end is a return (adds a hit) or only the end of misses
+};
+
+// Per-beam label, values as in msg/RayLabels.msg.
+enum class RayLabel : uint8_t { kNoReturn = 0, kKept = 1, kMotion = 2, kReflection = 3 };
+
+// What a beam's range says (REP-117).
+enum class BeamReading : uint8_t {
+  kInvalid,   // NaN, -inf, below range_min: changes nothing
+  kReturn,    // in [range_min, range_max): misses then a hit
+  kNoReturn,  // +inf or >= range_max: misses up to the clearing distance, no hit
+};
+
+BeamReading classifyBeam(float range, float range_min, float range_max);
+
+// Converts a scan taken at sensor_pose (fixed frame) into rays; invalid beams are skipped.
+// Rays are appended to `rays` (cleared first) in beam order.
+void scanToRays(const LaserScan2D& scan, const Pose2D& sensor_pose,
+                const InsertionOptions& options, std::vector<Ray>& rays);
+
+}  // namespace rfm

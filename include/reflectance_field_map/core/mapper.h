@@ -1,0 +1,108 @@
+#pragma once
+
+#include "reflectance_field_map/core/cell_class.h"
+#include "reflectance_field_map/core/global_map.h"
+#include "reflectance_field_map/core/laser_scan.h"
+#include "reflectance_field_map/core/options.h"
+#include "reflectance_field_map/core/reflectance_field.h"
+
+#include <cstdint>
+#include <iosfwd>
+#include <memory>
+#include <vector>
+
+namespace rfm {
+
+// One scan with the poses it was taken from, in the fixed frame (REP-105: odom or map).
+struct TimedScan {
+  uint32_t sensor_id = 0;  // index of the scan's source (topic)
+  double stamp = 0.0;      // s
+  LaserScan2D scan;
+  Pose2D sensor_pose;  // laser frame in the fixed frame at `stamp`
+  Pose2D robot_pose;   // base frame in the fixed frame at `stamp`: centre of the active region
+};
+
+// What adding one scan did.
+struct ScanUpdate {
+  // Provisional per-beam labels: NO_RETURN, REFLECTION (passed through known glass, its
+  // evidence beyond the glass discarded) or KEPT. Motion is decided by removeMotion().
+  std::vector<RayLabel> labels;
+  size_t bin_updates = 0;
+  bool region_moved = false;
+  double insert_ms = 0.0;
+  double reflection_ms = 0.0;
+};
+
+struct MotionRemovalSummary {
+  size_t components = 0;
+  size_t static_cells = 0;
+  size_t glass_cells = 0;
+  size_t metal_cells = 0;
+  size_t motion_cells = 0;
+  bool new_glass = false;  // glass appeared where there was none: buffered scans re-processed
+  double elapsed_ms = 0.0;
+};
+
+struct MapperStats {
+  uint64_t scans_processed = 0;
+  uint64_t rays_inserted = 0;
+  uint64_t reflection_rays = 0;
+  double last_insert_ms = 0.0;
+  double last_reflection_ms = 0.0;
+  double last_motion_removal_ms = 0.0;
+  size_t occupied_cells = 0;  // in the active region, after the last motion removal
+  size_t free_cells = 0;
+  size_t glass_cells = 0;
+  size_t motion_cells = 0;
+  size_t field_bytes = 0;
+  size_t archived_bytes = 0;
+};
+
+// The one mapper that the node, the nodelet and the offline tool drive. Not thread-safe:
+// callers serialise addScan / removeMotion.
+class Mapper {
+ public:
+  // Throws InvalidOption (naming the field) when `options` are out of range.
+  explicit Mapper(const MapperOptions& options);
+  ~Mapper();
+  Mapper(const Mapper&) = delete;
+  Mapper& operator=(const Mapper&) = delete;
+
+  const MapperOptions& options() const { return options_; }
+
+  // Re-centres the active region on the robot, checks the rays against known glass
+  // (reflection removal, Alg. 3) and inserts the rest (Alg. 1).
+  ScanUpdate addScan(const TimedScan& scan);
+
+  // Motion removal (Alg. 2) over the active region, then writes the region's classes into the
+  // global map. When new glass appears, buffered scans are re-processed against it.
+  MotionRemovalSummary removeMotion();
+
+  // Classes of the explored map (global, survives the active region moving on).
+  const GlobalMap2D& map() const { return map_; }
+  const ReflectanceField& field() const { return field_; }
+  // Class of a cell: from the active region when inside it, else from the global map.
+  CellClass cellClass(const CellIndex& cell) const;
+
+  // Per-beam labels of a scan against the current map (paper Sec. VI-A): NO_RETURN, KEPT when
+  // the endpoint cell is an obstacle and the ray did not pass through glass first, REFLECTION
+  // when it did, MOTION when the endpoint cell is motion (or free: the evidence was removed).
+  std::vector<RayLabel> labelScan(const TimedScan& scan) const;
+
+  void reset();
+  void save(std::ostream& out) const;
+  // False (and the mapper unchanged) when the stream is not a compatible saved state.
+  bool load(std::istream& in);
+
+  MapperStats stats() const;
+
+ private:
+  struct Impl;
+
+  MapperOptions options_;
+  ReflectanceField field_;
+  GlobalMap2D map_;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace rfm

@@ -1,0 +1,102 @@
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace rfm {
+
+// A configuration value out of its allowed range. what() names the field (by its parameter
+// name in config/default.yaml), the value and the allowed range.
+class InvalidOption : public std::invalid_argument {
+ public:
+  InvalidOption(const std::string& field, const std::string& value, const std::string& allowed)
+      : std::invalid_argument(field + " = " + value + " is invalid: allowed " + allowed),
+        field_(field) {}
+  const std::string& field() const { return field_; }
+
+ private:
+  std::string field_;
+};
+
+// Each struct is one component's options; validate() throws InvalidOption naming the field.
+// Field names match the ROS parameter names of config/default.yaml.
+
+struct GridOptions {
+  double resolution = 0.05;  // m per cell
+  int theta_bins = 180;      // direction bins over 2*pi (180 = 2 deg)
+  int tile_cells = 16;       // cells per tile side: unit of scrolling and archiving
+  void validate() const;
+};
+
+// Binary Bayes filter per (x, y, theta) bin, in log-odds, prior 0.5 (log-odds 0).
+struct LogOddsOptions {
+  double log_odds_hit = 0.85;   // added when a ray ends in the bin
+  double log_odds_miss = -0.4;  // added when a ray passes through the bin
+  double log_odds_min = -2.0;   // clamping keeps the filter responsive to change
+  double log_odds_max = 3.5;
+  void validate() const;
+};
+
+struct InsertionOptions {
+  // Misses are added up to this distance for beams with nothing within range (+inf or
+  // >= range_max, REP-117), and no hit.
+  double clearing_distance = 4.0;  // m
+  void validate() const;
+};
+
+struct ActiveRegionOptions {
+  double active_region_radius = 10.0;  // m, robot-centred window where the field is updated
+  void validate() const;
+};
+
+struct OccupancyOptions {
+  // eq. 5: occupied when the reflective angle (bins with p > 0.5) exceeds alpha.
+  double alpha = 0.017453292519943295;  // rad (1 deg)
+  // eq. 7: widely visible when sum over theta of odds * dtheta exceeds beta (odds-radians).
+  // An unobserved cell sums to 2*pi (prior odds 1 everywhere), so beta must exceed that.
+  double beta = 14.0;
+  // Glassy cells reflective over at least this angle are reported as metal (wider lobe).
+  double metal_min_angle = 0.17453292519943295;  // rad (10 deg)
+  void validate() const;
+};
+
+struct MotionRemovalOptions {
+  bool motion_removal_enabled = true;
+  double motion_removal_rate = 2.0;  // Hz, online timer
+  void validate() const;
+};
+
+struct ReflectionRemovalOptions {
+  bool reflection_removal_enabled = true;
+  // A ray may end this far beyond a glass/static cell before it counts as passing through it.
+  double penetration_tolerance = 0.15;  // m
+  int max_reflection_iterations = 6;    // batch re-processing passes
+  int scan_buffer_size = 400;           // online ring buffer of recent scans (per mapper)
+  void validate() const;
+};
+
+struct MapperOptions {
+  GridOptions grid;
+  LogOddsOptions log_odds;
+  InsertionOptions insertion;
+  ActiveRegionOptions active_region;
+  OccupancyOptions occupancy;
+  MotionRemovalOptions motion_removal;
+  ReflectionRemovalOptions reflection_removal;
+  void validate() const;
+};
+
+// Every MapperOptions field by its parameter name, so ROS parameters and YAML files are read
+// through one table. Booleans are 0/1, integers are rounded.
+struct OptionField {
+  std::string name;
+  std::string description;
+  enum class Type { kDouble, kInt, kBool } type;
+};
+const std::vector<OptionField>& optionFields();
+// False when `name` is not a field.
+bool setOption(MapperOptions& options, const std::string& name, double value);
+double getOption(const MapperOptions& options, const std::string& name);
+
+}  // namespace rfm

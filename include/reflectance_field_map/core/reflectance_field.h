@@ -1,0 +1,116 @@
+#pragma once
+
+#include "reflectance_field_map/core/grid_geometry.h"
+#include "reflectance_field_map/core/log_odds.h"
+#include "reflectance_field_map/core/options.h"
+#include "reflectance_field_map/core/rolling_window.h"
+#include "reflectance_field_map/core/tile_archive.h"
+
+#include <cstdint>
+#include <iosfwd>
+#include <vector>
+
+namespace rfm {
+
+// The Reflectance Field Map inside a robot-centred active region (paper Sec. III):
+// one int8 log-odds Bayes filter per (x, y, theta) bin, stored bin-major ([bin][y][x]) in a
+// rolling window of tiles so a ray, which updates a single theta slice, touches contiguous
+// memory. Per cell it keeps which bins are reflective (p > 0.5, a bit mask) and how many are
+// missed (p < 0.5), updated on every change, so eq. 5 and the component search never scan
+// the bins. Tiles leaving the window are archived compressed and restored on return.
+class ReflectanceField {
+ public:
+  ReflectanceField(const GridOptions& grid, const LogOddsOptions& log_odds,
+                   const ActiveRegionOptions& region);
+
+  const GridGeometry& geometry() const { return geometry_; }
+  const LogOddsModel& logOdds() const { return log_odds_; }
+  const RollingWindow& window() const { return window_; }
+  CellBox activeBox() const { return window_.box(); }
+  bool inActiveRegion(const CellIndex& cell) const { return window_.contains(cell); }
+
+  // Scrolls the window by whole tiles so `robot_position`'s tile is central. Tiles that leave
+  // are archived and cleared; tiles that enter are restored from the archive.
+  WindowShift recenter(const Eigen::Vector2d& robot_position);
+
+  // Bin access for cells inside the active region.
+  int8_t value(const CellIndex& cell, int bin) const {
+    return bins_[static_cast<size_t>(bin) * plane_ + window_.storageIndex(cell)];
+  }
+  void applyHit(const CellIndex& cell, int bin) { applyHitAt(window_.storageIndex(cell), bin); }
+  void applyMiss(const CellIndex& cell, int bin) { applyMissAt(window_.storageIndex(cell), bin); }
+
+  // Fast path for the inserter: storage index = window().storageIndex(cell).
+  void applyHitAt(int storage_index, int bin) {
+    int8_t& v = bins_[static_cast<size_t>(bin) * plane_ + storage_index];
+    const int8_t old = v;
+    v = log_odds_.hit(old);
+    if (old <= 0 && v > 0) setReflective(storage_index, bin, true);
+    if (old < 0 && v >= 0) --missed_bins_[storage_index];
+  }
+  void applyMissAt(int storage_index, int bin) {
+    int8_t& v = bins_[static_cast<size_t>(bin) * plane_ + storage_index];
+    const int8_t old = v;
+    v = log_odds_.miss(old);
+    if (old > 0 && v <= 0) setReflective(storage_index, bin, false);
+    if (old >= 0 && v < 0) ++missed_bins_[storage_index];
+  }
+
+  // Per-cell summaries (cell inside the active region).
+  int maskWords() const { return mask_words_; }
+  const uint64_t* reflectiveMask(const CellIndex& cell) const {
+    return &reflective_masks_[static_cast<size_t>(window_.storageIndex(cell)) * mask_words_];
+  }
+  int reflectiveBins(const CellIndex& cell) const;
+  int missedBins(const CellIndex& cell) const { return missed_bins_[window_.storageIndex(cell)]; }
+  bool isReflective(const CellIndex& cell, int bin) const {
+    const uint64_t* mask = reflectiveMask(cell);
+    return (mask[bin >> 6] >> (bin & 63)) & 1u;
+  }
+  // eq. 7: sum over theta of the odds of reflectance times the bin width (rad).
+  double marginalOdds(const CellIndex& cell) const;
+
+  // Memory.
+  size_t activeBytes() const;
+  size_t archivedBytes() const { return archive_.bytes(); }
+  size_t archivedTiles() const { return archive_.tileCount(); }
+  const TileArchive& archive() const { return archive_; }
+
+  // Forgets everything (active and archived).
+  void clear();
+
+  // Binary state (window origin, active bins, archive) for save/load.
+  void write(std::ostream& out) const;
+  bool read(std::istream& in);
+
+ private:
+  void setReflective(int storage_index, int bin, bool reflective) {
+    uint64_t& word = reflective_masks_[static_cast<size_t>(storage_index) * mask_words_ + (bin >> 6)];
+    const uint64_t bit = uint64_t{1} << (bin & 63);
+    word = reflective ? (word | bit) : (word & ~bit);
+  }
+  void archiveTile(const TileIndex& tile);
+  void restoreTile(const TileIndex& tile);
+  void clearTileStorage(const TileIndex& tile);
+  void rebuildSummaries(const TileIndex& tile);
+  void gatherTile(const TileIndex& tile, std::vector<int8_t>& bins) const;
+  void scatterTile(const TileIndex& tile, const std::vector<int8_t>& bins);
+
+  GridGeometry geometry_;
+  LogOddsModel log_odds_;
+  RollingWindow window_;
+  int theta_bins_;
+  size_t plane_;  // cells in one theta slice of the window
+  int mask_words_;
+  bool centred_ = false;
+  std::vector<int8_t> bins_;                // [bin][y][x]
+  std::vector<uint64_t> reflective_masks_;  // [y][x][word]
+  std::vector<uint16_t> missed_bins_;       // [y][x]
+  TileArchive archive_;
+};
+
+// Tiles per side of the active window: the radius must stay inside the window while the robot
+// is anywhere within the centre tile.
+int activeWindowTiles(double radius, double resolution, int tile_cells);
+
+}  // namespace rfm

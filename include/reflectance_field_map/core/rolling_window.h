@@ -1,0 +1,59 @@
+#pragma once
+
+#include "reflectance_field_map/core/grid_geometry.h"
+
+#include <vector>
+
+namespace rfm {
+
+// Geometry of a square window of tiles that follows the robot, stored as a circular buffer:
+// a global cell c lives in storage slot positiveMod(c, size) on each axis, so moving the
+// window only re-assigns the slots of tiles that scrolled out to the tiles that scrolled in.
+class RollingWindow {
+ public:
+  RollingWindow(int tile_cells, int tiles_per_side);
+
+  int tileCells() const { return tile_cells_; }
+  int tilesPerSide() const { return tiles_per_side_; }
+  int sizeCells() const { return tiles_per_side_ * tile_cells_; }
+  const TileIndex& originTile() const { return origin_tile_; }
+  CellBox box() const;
+  bool contains(const CellIndex& cell) const { return box().contains(cell); }
+
+  int storageCoordinate(int cell) const { return positiveMod(cell, sizeCells()); }
+  // Linear storage index of a cell inside the window: y * size + x.
+  int storageIndex(const CellIndex& cell) const {
+    return storageCoordinate(cell.y()) * sizeCells() + storageCoordinate(cell.x());
+  }
+  TileIndex tileOf(const CellIndex& cell) const {
+    return {floorDiv(cell.x(), tile_cells_), floorDiv(cell.y(), tile_cells_)};
+  }
+  CellBox tileBox(const TileIndex& tile) const {
+    return {tile * tile_cells_, (tile + TileIndex(1, 1)) * tile_cells_};
+  }
+  // The origin that puts `center_cell`'s tile in the middle of the window.
+  TileIndex originCentredOn(const CellIndex& center_cell) const {
+    return tileOf(center_cell) - TileIndex(tiles_per_side_ / 2, tiles_per_side_ / 2);
+  }
+  // Tiles inside the window now.
+  std::vector<TileIndex> tiles() const;
+
+  void setOrigin(const TileIndex& origin_tile) { origin_tile_ = origin_tile; }
+
+ private:
+  int tile_cells_;
+  int tiles_per_side_;
+  TileIndex origin_tile_{0, 0};
+};
+
+// What a re-centring did: tiles that left the window and tiles that entered it.
+struct WindowShift {
+  bool moved = false;
+  std::vector<TileIndex> left;
+  std::vector<TileIndex> entered;  // newly exposed region, as tiles
+};
+
+// Tiles of `from` not in `to`, and of `to` not in `from`.
+WindowShift diffWindows(const RollingWindow& from, const TileIndex& new_origin);
+
+}  // namespace rfm
