@@ -1,0 +1,375 @@
+// YAML scene loader: strict (unknown keys are errors) so that typos in a scene do not silently
+// change the experiment. Every error names the offending field.
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "reflectance_field_map/sim/scene.h"
+
+namespace rfm::sim {
+namespace {
+
+constexpr double kDegToRad = M_PI / 180.0;
+
+class Parser {
+ public:
+  explicit Parser(std::string source) : source_(std::move(source)) {}
+
+  [[noreturn]] void fail(const std::string& field, const std::string& message) const {
+    throw SceneError(source_, field, message);
+  }
+
+  void requireMap(const YAML::Node& node, const std::string& field) const {
+    if (!node.IsMap()) fail(field, "expected a mapping");
+  }
+
+  void rejectUnknownKeys(const YAML::Node& node, const std::string& field,
+                         const std::set<std::string>& allowed) const {
+    for (const auto& entry : node) {
+      const std::string key = entry.first.as<std::string>();
+      if (!allowed.count(key)) {
+        std::string expected;
+        for (const std::string& name : allowed)
+          expected += (expected.empty() ? "" : ", ") + name;
+        fail(join(field, key), "unknown key (expected one of: " + expected + ")");
+      }
+    }
+  }
+
+  static std::string join(const std::string& parent, const std::string& key) {
+    return parent.empty() ? key : parent + "." + key;
+  }
+  static std::string index(const std::string& parent, std::size_t i) {
+    return parent + "[" + std::to_string(i) + "]";
+  }
+
+  double number(const YAML::Node& node, const std::string& field) const {
+    if (!node.IsScalar()) fail(field, "expected a number");
+    double value = 0.0;
+    try {
+      value = node.as<double>();
+    } catch (const YAML::Exception&) {
+      fail(field, "expected a number, got '" + node.Scalar() + "'");
+    }
+    if (!std::isfinite(value)) fail(field, "must be finite");
+    return value;
+  }
+
+  double number(const YAML::Node& parent, const std::string& parent_field, const std::string& key,
+                double fallback, double low, double high) const {
+    const YAML::Node node = parent[key];
+    if (!node) return fallback;
+    const std::string field = join(parent_field, key);
+    const double value = number(node, field);
+    if (value < low || value > high) {
+      std::ostringstream message;
+      message << "must be in [" << low << ", " << high << "], got " << value;
+      fail(field, message.str());
+    }
+    return value;
+  }
+
+  double requiredNumber(const YAML::Node& parent, const std::string& parent_field,
+                        const std::string& key, double low, double high) const {
+    if (!parent[key]) fail(join(parent_field, key), "missing (required)");
+    return number(parent, parent_field, key, 0.0, low, high);
+  }
+
+  bool boolean(const YAML::Node& parent, const std::string& parent_field, const std::string& key,
+               bool fallback) const {
+    const YAML::Node node = parent[key];
+    if (!node) return fallback;
+    try {
+      return node.as<bool>();
+    } catch (const YAML::Exception&) {
+      fail(join(parent_field, key), "expected true or false");
+    }
+  }
+
+  std::string text(const YAML::Node& parent, const std::string& parent_field,
+                   const std::string& key, const std::string& fallback) const {
+    const YAML::Node node = parent[key];
+    if (!node) return fallback;
+    if (!node.IsScalar()) fail(join(parent_field, key), "expected a string");
+    return node.Scalar();
+  }
+
+  Eigen::Vector2d point(const YAML::Node& node, const std::string& field,
+                        double* third = nullptr) const {
+    const std::size_t max_size = third ? 3 : 2;
+    if (!node.IsSequence() || node.size() < 2 || node.size() > max_size) {
+      fail(field, third ? "expected [x, y] or [x, y, pause_s]" : "expected [x, y]");
+    }
+    if (third) *third = node.size() == 3 ? number(node[2], index(field, 2)) : 0.0;
+    return {number(node[0], index(field, 0)), number(node[1], index(field, 1))};
+  }
+
+  std::vector<Eigen::Vector2d> points(const YAML::Node& parent, const std::string& parent_field,
+                                      const std::string& key, std::size_t min_count) const {
+    const std::string field = join(parent_field, key);
+    const YAML::Node node = parent[key];
+    if (!node) fail(field, "missing (required)");
+    if (!node.IsSequence()) fail(field, "expected a list of [x, y] points");
+    if (node.size() < min_count) {
+      fail(field, "needs at least " + std::to_string(min_count) + " points");
+    }
+    std::vector<Eigen::Vector2d> result;
+    for (std::size_t i = 0; i < node.size(); ++i)
+      result.push_back(point(node[i], index(field, i)));
+    return result;
+  }
+
+  Material material(const YAML::Node& parent, const std::string& parent_field) const {
+    const std::string field = join(parent_field, "material");
+    if (!parent["material"]) fail(field, "missing (required)");
+    const std::string name = text(parent, parent_field, "material", "");
+    if (name == "diffuse") return Material::kDiffuse;
+    if (name == "glass") return Material::kGlass;
+    if (name == "mirror") return Material::kMirror;
+    if (name == "metal") return Material::kMetal;
+    fail(field, "unknown material '" + name + "' (expected diffuse, glass, mirror or metal)");
+  }
+
+  void walls(const YAML::Node& node, World& world) const {
+    const std::string field = "walls";
+    if (!node) fail(field, "missing (required)");
+    if (!node.IsSequence() || node.size() == 0) fail(field, "expected a non-empty list of walls");
+    for (std::size_t i = 0; i < node.size(); ++i) {
+      const YAML::Node wall = node[i];
+      const std::string wall_field = index(field, i);
+      requireMap(wall, wall_field);
+      const std::string type = text(wall, wall_field, "type", "");
+      const Material wall_material = material(wall, wall_field);
+      const double default_frame = wall_material == Material::kDiffuse ? 0.0 : 0.05;
+      const double frame = number(wall, wall_field, "frame", default_frame, 0.0, 1.0);
+      const double mullions = number(wall, wall_field, "mullion_spacing", 0.0, 0.0, 1000.0);
+      if (type == "segment" || type == "polyline") {
+        rejectUnknownKeys(wall, wall_field,
+                          {"type", "material", "points", "frame", "mullion_spacing", "closed"});
+        std::vector<Eigen::Vector2d> corners = points(wall, wall_field, "points", 2);
+        if (type == "segment" && corners.size() != 2) {
+          fail(join(wall_field, "points"), "a segment has exactly 2 points");
+        }
+        if (boolean(wall, wall_field, "closed", false)) corners.push_back(corners.front());
+        for (std::size_t k = 0; k + 1 < corners.size(); ++k) {
+          if ((corners[k + 1] - corners[k]).norm() < 1e-6) {
+            fail(index(join(wall_field, "points"), k + 1), "repeats the previous point");
+          }
+          world.addFramedSegment(corners[k], corners[k + 1], wall_material, frame, mullions);
+        }
+      } else if (type == "arc") {
+        rejectUnknownKeys(wall, wall_field,
+                          {"type", "material", "center", "radius", "start_deg", "end_deg", "frame",
+                           "mullion_spacing"});
+        if (!wall["center"]) fail(join(wall_field, "center"), "missing (required)");
+        const Eigen::Vector2d center = point(wall["center"], join(wall_field, "center"));
+        const double radius = requiredNumber(wall, wall_field, "radius", 0.05, 1000.0);
+        const double start = requiredNumber(wall, wall_field, "start_deg", -720.0, 720.0);
+        const double end = requiredNumber(wall, wall_field, "end_deg", -720.0, 720.0);
+        if (end <= start || end - start > 360.0) {
+          fail(join(wall_field, "end_deg"), "must satisfy start_deg < end_deg <= start_deg + 360");
+        }
+        world.addFramedArc(center, radius, start * kDegToRad, end * kDegToRad, wall_material, frame,
+                           mullions);
+      } else {
+        fail(join(wall_field, "type"),
+             "unknown wall type '" + type + "' (expected segment, polyline or arc)");
+      }
+    }
+  }
+
+  MaterialModel materials(const YAML::Node& node) const {
+    MaterialModel model;
+    if (!node) return model;
+    const std::string field = "materials";
+    requireMap(node, field);
+    rejectUnknownKeys(
+        node, field,
+        {"specular_window_deg", "glass_reflect_probability", "metal_lobe_deg",
+         "metal_scatter_probability", "diffuse_max_incidence_deg", "max_interactions"});
+    if (const YAML::Node window = node["specular_window_deg"]) {
+      const std::string window_field = join(field, "specular_window_deg");
+      if (!window.IsSequence() || window.size() != 2) fail(window_field, "expected [min, max]");
+      model.specular_window_min_deg = number(window[0], index(window_field, 0));
+      model.specular_window_max_deg = number(window[1], index(window_field, 1));
+      if (model.specular_window_min_deg < 0.0 ||
+          model.specular_window_max_deg < model.specular_window_min_deg ||
+          model.specular_window_max_deg > 45.0) {
+        fail(window_field, "need 0 <= min <= max <= 45");
+      }
+    }
+    model.glass_reflect_probability =
+        number(node, field, "glass_reflect_probability", model.glass_reflect_probability, 0.0, 1.0);
+    model.metal_lobe_deg = number(node, field, "metal_lobe_deg", model.metal_lobe_deg, 0.0, 90.0);
+    model.metal_scatter_probability =
+        number(node, field, "metal_scatter_probability", model.metal_scatter_probability, 0.0, 1.0);
+    model.diffuse_max_incidence_deg = number(node, field, "diffuse_max_incidence_deg",
+                                             model.diffuse_max_incidence_deg, 0.0, 90.0);
+    model.max_interactions = static_cast<int>(
+        number(node, field, "max_interactions", model.max_interactions, 0.0, 32.0));
+    return model;
+  }
+
+  std::vector<PersonSpec> people(const YAML::Node& node, double duration) const {
+    std::vector<PersonSpec> result;
+    if (!node) return result;
+    const std::string field = "people";
+    if (!node.IsSequence()) fail(field, "expected a list of people");
+    for (std::size_t i = 0; i < node.size(); ++i) {
+      const YAML::Node entry = node[i];
+      const std::string person_field = index(field, i);
+      requireMap(entry, person_field);
+      rejectUnknownKeys(entry, person_field,
+                        {"name", "radius", "speed", "start_time", "end_time", "loop", "waypoints"});
+      PersonSpec person;
+      person.name = text(entry, person_field, "name", "person" + std::to_string(i));
+      person.radius = number(entry, person_field, "radius", person.radius, 0.05, 1.0);
+      person.speed = number(entry, person_field, "speed", person.speed, 0.05, 3.0);
+      person.start_time = number(entry, person_field, "start_time", 0.0, 0.0, duration);
+      person.end_time = number(entry, person_field, "end_time", person.end_time, 0.0, 1e9);
+      if (person.end_time <= person.start_time) {
+        fail(join(person_field, "end_time"), "must be after start_time");
+      }
+      person.loop = boolean(entry, person_field, "loop", false);
+      const std::string waypoints_field = join(person_field, "waypoints");
+      const YAML::Node waypoints = entry["waypoints"];
+      if (!waypoints) fail(waypoints_field, "missing (required)");
+      if (!waypoints.IsSequence() || waypoints.size() == 0) {
+        fail(waypoints_field, "expected a non-empty list of [x, y] or [x, y, pause_s]");
+      }
+      for (std::size_t k = 0; k < waypoints.size(); ++k) {
+        PersonWaypoint waypoint;
+        waypoint.position = point(waypoints[k], index(waypoints_field, k), &waypoint.pause);
+        if (waypoint.pause < 0.0) fail(index(index(waypoints_field, k), 2), "pause must be >= 0");
+        person.waypoints.push_back(waypoint);
+      }
+      result.push_back(person);
+    }
+    return result;
+  }
+
+  TrajectorySpec robot(const YAML::Node& node) const {
+    const std::string field = "robot";
+    if (!node) fail(field, "missing (required)");
+    requireMap(node, field);
+    rejectUnknownKeys(
+        node, field,
+        {"speed", "turn_rate_deg", "start_delay", "initial_yaw_deg", "loop", "waypoints"});
+    TrajectorySpec spec;
+    spec.speed = number(node, field, "speed", spec.speed, 0.05, 2.0);
+    spec.turn_rate = number(node, field, "turn_rate_deg", 45.0, 1.0, 360.0) * kDegToRad;
+    spec.start_delay = number(node, field, "start_delay", 1.0, 0.0, 600.0);
+    if (node["initial_yaw_deg"]) {
+      spec.initial_yaw = number(node, field, "initial_yaw_deg", 0.0, -360.0, 360.0) * kDegToRad;
+    }
+    spec.loop = boolean(node, field, "loop", false);
+    spec.waypoints = points(node, field, "waypoints", 1);
+    return spec;
+  }
+
+  void sensors(const YAML::Node& node, std::vector<LidarSpec>& lidars) const {
+    if (!node) return;
+    const std::string field = "sensors";
+    requireMap(node, field);
+    rejectUnknownKeys(
+        node, field,
+        {"rate_hz", "range_min", "range_max", "range_noise_sigma", "dropout_probability",
+         "rear_time_offset", "beam_count", "angle_min_deg", "angle_increment_deg"});
+    for (LidarSpec& lidar : lidars) {
+      lidar.rate_hz = number(node, field, "rate_hz", lidar.rate_hz, 1.0, 200.0);
+      lidar.range_min = number(node, field, "range_min", lidar.range_min, 0.0, 10.0);
+      lidar.range_max = number(node, field, "range_max", lidar.range_max, 0.5, 200.0);
+      lidar.range_noise_sigma =
+          number(node, field, "range_noise_sigma", lidar.range_noise_sigma, 0.0, 0.5);
+      lidar.dropout_probability =
+          number(node, field, "dropout_probability", lidar.dropout_probability, 0.0, 1.0);
+      lidar.beam_count =
+          static_cast<int>(number(node, field, "beam_count", lidar.beam_count, 1.0, 100000.0));
+      lidar.angle_min =
+          number(node, field, "angle_min_deg", lidar.angle_min / kDegToRad, -180.0, 180.0) *
+          kDegToRad;
+      lidar.angle_increment = number(node, field, "angle_increment_deg",
+                                     lidar.angle_increment / kDegToRad, 0.01, 10.0) *
+                              kDegToRad;
+    }
+    if (lidars.size() > 1) {
+      lidars[1].time_offset = number(node, field, "rear_time_offset", 0.5 / lidars[1].rate_hz, 0.0,
+                                     1.0 / lidars[1].rate_hz);
+    }
+    if (lidars.front().range_min >= lidars.front().range_max) {
+      fail(join(field, "range_max"), "must be greater than range_min");
+    }
+  }
+
+  Scene scene(const YAML::Node& root) const {
+    if (!root || !root.IsMap()) fail("", "expected a YAML mapping at the top level");
+    rejectUnknownKeys(root, "",
+                      {"name", "description", "duration", "seed", "materials", "walls", "people",
+                       "robot", "sensors", "tf_rate_hz", "odom_rate_hz"});
+    Scene scene;
+    scene.name = text(root, "", "name", "");
+    if (scene.name.empty()) fail("name", "missing (required)");
+    scene.description = text(root, "", "description", "");
+    scene.duration = requiredNumber(root, "", "duration", 0.1, 3600.0);
+    scene.seed = static_cast<std::uint32_t>(number(root, "", "seed", 1.0, 0.0, 4294967295.0));
+    scene.materials = materials(root["materials"]);
+    walls(root["walls"], scene.world);
+    scene.people = people(root["people"], scene.duration);
+    scene.robot = robot(root["robot"]);
+    scene.lidars = defaultWheelchairLidars();
+    sensors(root["sensors"], scene.lidars);
+    scene.tf_rate_hz = number(root, "", "tf_rate_hz", scene.tf_rate_hz, 50.0, 1000.0);
+    scene.odom_rate_hz = number(root, "", "odom_rate_hz", scene.odom_rate_hz, 1.0, 1000.0);
+    return scene;
+  }
+
+ private:
+  std::string source_;
+};
+
+}  // namespace
+
+std::vector<LidarSpec> defaultWheelchairLidars() {
+  LidarSpec front;
+  front.topic = "/scan_front";
+  front.frame_id = "laser_front";
+  front.mount_x = 0.35;
+  front.mount_yaw = 0.0;
+  LidarSpec rear = front;
+  rear.topic = "/scan_rear";
+  rear.frame_id = "laser_rear";
+  rear.mount_x = -0.35;
+  rear.mount_yaw = M_PI;
+  rear.time_offset = 0.5 / rear.rate_hz;
+  return {front, rear};
+}
+
+Scene parseScene(const std::string& yaml_text, const std::string& source) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::Exception& error) {
+    throw SceneError(source, "", std::string("invalid YAML: ") + error.what());
+  }
+  Parser parser(source);
+  try {
+    return parser.scene(root);
+  } catch (const SceneError&) {
+    throw;
+  } catch (const std::exception& error) {  // e.g. a yaml-cpp conversion we did not anticipate
+    throw SceneError(source, "", error.what());
+  }
+}
+
+Scene loadScene(const std::string& path) {
+  std::ifstream file(path);
+  if (!file) throw SceneError(path, "", "cannot open scene file");
+  std::ostringstream contents;
+  contents << file.rdbuf();
+  return parseScene(contents.str(), path);
+}
+
+}  // namespace rfm::sim

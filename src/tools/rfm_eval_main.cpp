@@ -1,0 +1,195 @@
+// rfm_eval: scores a mapper's per-beam labels against the simulator's ground truth.
+//
+//   rfm_eval --truth SIM.bag --labels DIR/labels.bag [--out PREFIX]
+//       Matches /rfm/ray_labels to /sim/ray_truth by (scan_topic, header.stamp), prints the
+//       confusion matrix and writes PREFIX.md and PREFIX.json (default PREFIX = DIR/eval).
+//   rfm_eval --report MANIFEST --out REPORT.md [--preamble FILE]
+//       Aggregates eval.json files listed in MANIFEST (lines: "config scene path/eval.json") into
+//       one markdown report.
+#include <reflectance_field_map/RayLabels.h>
+#include <reflectance_field_map/RayTruth.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <utility>
+
+#include "reflectance_field_map/sim/evaluation.h"
+
+namespace {
+
+const char* const kTruthTopic = "/sim/ray_truth";
+const char* const kLabelsTopic = "/rfm/ray_labels";
+
+void printUsage(std::ostream& out) {
+  out << "usage: rfm_eval --truth SIM.bag --labels DIR/labels.bag [--out PREFIX]\n"
+         "       rfm_eval --report MANIFEST --out REPORT.md [--preamble FILE]\n";
+}
+
+std::string readFile(const std::string& path) {
+  std::ifstream file(path);
+  if (!file) throw std::runtime_error("cannot read '" + path + "'");
+  std::ostringstream contents;
+  contents << file.rdbuf();
+  return contents.str();
+}
+
+void writeFile(const std::string& path, const std::string& text) {
+  std::ofstream file(path);
+  file << text;
+  if (!file) throw std::runtime_error("cannot write '" + path + "'");
+}
+
+std::string directoryOf(const std::string& path) {
+  const std::size_t slash = path.find_last_of('/');
+  return slash == std::string::npos ? "." : path.substr(0, slash);
+}
+
+using ScanKey = std::pair<std::string, std::uint64_t>;  // (scan_topic, stamp in ns)
+
+int evaluate(const std::string& truth_path, const std::string& labels_path,
+             const std::string& prefix) {
+  std::map<ScanKey, std::vector<std::uint8_t>> truth_by_scan;
+  std::size_t duplicate_truth = 0;
+  {
+    rosbag::Bag bag(truth_path, rosbag::bagmode::Read);
+    rosbag::View view(bag, rosbag::TopicQuery(kTruthTopic));
+    for (const rosbag::MessageInstance& instance : view) {
+      const auto truth = instance.instantiate<reflectance_field_map::RayTruth>();
+      if (!truth) continue;
+      const ScanKey key{truth->scan_topic, truth->header.stamp.toNSec()};
+      if (!truth_by_scan.emplace(key, truth->classes).second) ++duplicate_truth;
+    }
+  }
+  if (truth_by_scan.empty()) {
+    std::cerr << "rfm_eval: no " << kTruthTopic << " messages in '" << truth_path << "'\n";
+    return 1;
+  }
+
+  rfm::sim::ConfusionMatrix matrix;
+  std::size_t label_messages = 0, unmatched_labels = 0;
+  std::map<ScanKey, bool> matched;
+  {
+    rosbag::Bag bag(labels_path, rosbag::bagmode::Read);
+    rosbag::View view(bag, rosbag::TopicQuery(kLabelsTopic));
+    for (const rosbag::MessageInstance& instance : view) {
+      const auto labels = instance.instantiate<reflectance_field_map::RayLabels>();
+      if (!labels) continue;
+      ++label_messages;
+      const ScanKey key{labels->scan_topic, labels->header.stamp.toNSec()};
+      const auto truth = truth_by_scan.find(key);
+      if (truth == truth_by_scan.end() || matched[key]) {
+        ++unmatched_labels;
+        continue;
+      }
+      if (truth->second.size() != labels->labels.size()) {
+        std::cerr << "rfm_eval: beam count mismatch for " << key.first << " at stamp "
+                  << labels->header.stamp << ": truth " << truth->second.size() << ", labels "
+                  << labels->labels.size() << "\n";
+        return 1;
+      }
+      matrix.addScan(truth->second, labels->labels);
+      matched[key] = true;
+    }
+  }
+  const std::size_t unmatched_truth = truth_by_scan.size() - matrix.scans();
+  if (matrix.scans() == 0) {
+    std::cerr << "rfm_eval: no label message matches a truth message (" << label_messages << " on "
+              << kLabelsTopic << " in '" << labels_path << "', " << truth_by_scan.size()
+              << " truth scans)\n";
+    return 1;
+  }
+
+  std::ostringstream summary;
+  summary << "Truth: `" << truth_path << "`, labels: `" << labels_path << "`.\n\n"
+          << matrix.scans() << " scans matched; " << unmatched_truth
+          << " truth scans without labels; " << unmatched_labels
+          << " label messages without truth (or duplicates)";
+  if (duplicate_truth) summary << "; " << duplicate_truth << " duplicate truth messages ignored";
+  summary << ".\n\n";
+  const std::string markdown =
+      "# Ray classification\n\n" + summary.str() + matrix.toMarkdownTable();
+  std::cout << markdown;
+  writeFile(prefix + ".md", markdown);
+  writeFile(prefix + ".json", matrix.toJson());
+  std::cout << "\nwrote " << prefix << ".md and " << prefix << ".json\n";
+  return 0;
+}
+
+int report(const std::string& manifest_path, const std::string& out_path,
+           const std::string& preamble_path) {
+  std::vector<rfm::sim::EvaluationEntry> entries;
+  std::istringstream manifest(readFile(manifest_path));
+  std::string line;
+  int line_number = 0;
+  while (std::getline(manifest, line)) {
+    ++line_number;
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream fields(line);
+    rfm::sim::EvaluationEntry entry;
+    std::string json_path;
+    if (!(fields >> entry.config >> entry.scene >> json_path)) {
+      throw std::runtime_error(manifest_path + ":" + std::to_string(line_number) +
+                               ": expected 'config scene path/eval.json'");
+    }
+    try {
+      entry.matrix = rfm::sim::ConfusionMatrix::fromJson(readFile(json_path));
+    } catch (const std::exception& error) {
+      throw std::runtime_error(json_path + ": " + error.what());
+    }
+    entries.push_back(std::move(entry));
+  }
+  if (entries.empty()) throw std::runtime_error(manifest_path + ": no entries");
+  const std::string preamble = preamble_path.empty() ? "" : readFile(preamble_path);
+  writeFile(out_path, rfm::sim::buildEvaluationReport(entries, preamble));
+  std::cout << "rfm_eval: wrote " << out_path << " from " << entries.size() << " results\n";
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::map<std::string, std::string> options;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "-h" || arg == "--help") {
+      printUsage(std::cout);
+      return 0;
+    }
+    if ((arg == "--truth" || arg == "--labels" || arg == "--out" || arg == "--report" ||
+         arg == "--preamble") &&
+        i + 1 < argc) {
+      options[arg] = argv[++i];
+    } else {
+      std::cerr << "rfm_eval: unexpected argument '" << arg << "'\n";
+      printUsage(std::cerr);
+      return 2;
+    }
+  }
+  try {
+    if (options.count("--report")) {
+      if (!options.count("--out")) {
+        std::cerr << "rfm_eval: --report needs --out REPORT.md\n";
+        return 2;
+      }
+      return report(options["--report"], options["--out"], options["--preamble"]);
+    }
+    if (!options.count("--truth") || !options.count("--labels")) {
+      std::cerr << "rfm_eval: --truth and --labels are required\n";
+      printUsage(std::cerr);
+      return 2;
+    }
+    const std::string prefix =
+        options.count("--out") ? options["--out"] : directoryOf(options["--labels"]) + "/eval";
+    return evaluate(options["--truth"], options["--labels"], prefix);
+  } catch (const rosbag::BagException& error) {
+    std::cerr << "rfm_eval: " << error.what() << "\n";
+  } catch (const std::exception& error) {
+    std::cerr << "rfm_eval: " << error.what() << "\n";
+  }
+  return 1;
+}
