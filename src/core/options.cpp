@@ -1,5 +1,6 @@
 #include "reflectance_field_map/core/options.h"
 
+#include "reflectance_field_map/core/grid_geometry.h"
 #include "reflectance_field_map/core/log_odds.h"
 
 #include <cmath>
@@ -93,43 +94,77 @@ const std::vector<FieldAccess>& accessTable() {
   using T = OptionField::Type;
   static const std::vector<FieldAccess> table = {
       {{"resolution", "cell size (m)", T::kDouble},
-       [](MapperOptions& o) -> double& { return o.grid.resolution; }, {}, {}},
-      {{"theta_bins", "direction bins over 2*pi", T::kInt}, {},
-       [](MapperOptions& o) -> int& { return o.grid.theta_bins; }, {}},
-      {{"tile_cells", "cells per tile side", T::kInt}, {},
-       [](MapperOptions& o) -> int& { return o.grid.tile_cells; }, {}},
+       [](MapperOptions& o) -> double& { return o.grid.resolution; },
+       {},
+       {}},
+      {{"theta_bins", "direction bins over 2*pi", T::kInt},
+       {},
+       [](MapperOptions& o) -> int& { return o.grid.theta_bins; },
+       {}},
+      {{"tile_cells", "cells per tile side", T::kInt},
+       {},
+       [](MapperOptions& o) -> int& { return o.grid.tile_cells; },
+       {}},
       {{"log_odds_hit", "log-odds added by a hit", T::kDouble},
-       [](MapperOptions& o) -> double& { return o.log_odds.log_odds_hit; }, {}, {}},
+       [](MapperOptions& o) -> double& { return o.log_odds.log_odds_hit; },
+       {},
+       {}},
       {{"log_odds_miss", "log-odds added by a miss", T::kDouble},
-       [](MapperOptions& o) -> double& { return o.log_odds.log_odds_miss; }, {}, {}},
+       [](MapperOptions& o) -> double& { return o.log_odds.log_odds_miss; },
+       {},
+       {}},
       {{"log_odds_min", "lower clamp of a bin", T::kDouble},
-       [](MapperOptions& o) -> double& { return o.log_odds.log_odds_min; }, {}, {}},
+       [](MapperOptions& o) -> double& { return o.log_odds.log_odds_min; },
+       {},
+       {}},
       {{"log_odds_max", "upper clamp of a bin", T::kDouble},
-       [](MapperOptions& o) -> double& { return o.log_odds.log_odds_max; }, {}, {}},
+       [](MapperOptions& o) -> double& { return o.log_odds.log_odds_max; },
+       {},
+       {}},
       {{"clearing_distance", "misses for beams with no return (m)", T::kDouble},
-       [](MapperOptions& o) -> double& { return o.insertion.clearing_distance; }, {}, {}},
+       [](MapperOptions& o) -> double& { return o.insertion.clearing_distance; },
+       {},
+       {}},
       {{"active_region_radius", "robot-centred region updated each scan (m)", T::kDouble},
-       [](MapperOptions& o) -> double& { return o.active_region.active_region_radius; }, {}, {}},
+       [](MapperOptions& o) -> double& { return o.active_region.active_region_radius; },
+       {},
+       {}},
       {{"alpha", "eq. 5: min reflective angle of an obstacle (rad)", T::kDouble},
-       [](MapperOptions& o) -> double& { return o.occupancy.alpha; }, {}, {}},
+       [](MapperOptions& o) -> double& { return o.occupancy.alpha; },
+       {},
+       {}},
       {{"beta", "eq. 7: min marginal odds of a widely visible cell (rad)", T::kDouble},
-       [](MapperOptions& o) -> double& { return o.occupancy.beta; }, {}, {}},
+       [](MapperOptions& o) -> double& { return o.occupancy.beta; },
+       {},
+       {}},
       {{"metal_min_angle", "min reflective angle of metal (rad)", T::kDouble},
-       [](MapperOptions& o) -> double& { return o.occupancy.metal_min_angle; }, {}, {}},
-      {{"motion_removal_enabled", "run Alg. 2", T::kBool}, {}, {},
+       [](MapperOptions& o) -> double& { return o.occupancy.metal_min_angle; },
+       {},
+       {}},
+      {{"motion_removal_enabled", "run Alg. 2", T::kBool},
+       {},
+       {},
        [](MapperOptions& o) -> bool& { return o.motion_removal.motion_removal_enabled; }},
       {{"motion_removal_rate", "motion removal timer (Hz)", T::kDouble},
-       [](MapperOptions& o) -> double& { return o.motion_removal.motion_removal_rate; }, {}, {}},
-      {{"reflection_removal_enabled", "run Alg. 3", T::kBool}, {}, {},
+       [](MapperOptions& o) -> double& { return o.motion_removal.motion_removal_rate; },
+       {},
+       {}},
+      {{"reflection_removal_enabled", "run Alg. 3", T::kBool},
+       {},
+       {},
        [](MapperOptions& o) -> bool& { return o.reflection_removal.reflection_removal_enabled; }},
       {{"penetration_tolerance", "ray may end this far past glass (m)", T::kDouble},
        [](MapperOptions& o) -> double& { return o.reflection_removal.penetration_tolerance; },
-       {}, {}},
-      {{"max_reflection_iterations", "batch re-processing passes", T::kInt}, {},
+       {},
+       {}},
+      {{"max_reflection_iterations", "batch re-processing passes", T::kInt},
+       {},
        [](MapperOptions& o) -> int& { return o.reflection_removal.max_reflection_iterations; },
        {}},
-      {{"scan_buffer_size", "scans kept for online re-processing", T::kInt}, {},
-       [](MapperOptions& o) -> int& { return o.reflection_removal.scan_buffer_size; }, {}},
+      {{"scan_buffer_size", "scans kept for online re-processing", T::kInt},
+       {},
+       [](MapperOptions& o) -> int& { return o.reflection_removal.scan_buffer_size; },
+       {}},
   };
   return table;
 }
@@ -146,7 +181,8 @@ const FieldAccess* findField(const std::string& name) {
 const std::vector<OptionField>& optionFields() {
   static const std::vector<OptionField> fields = [] {
     std::vector<OptionField> out;
-    for (const FieldAccess& access : accessTable()) out.push_back(access.field);
+    for (const FieldAccess& access : accessTable())
+      out.push_back(access.field);
     return out;
   }();
   return fields;

@@ -13,10 +13,10 @@ namespace rfm {
 
 // Which pipeline the offline tool runs (Table II baseline and the Table III ablation).
 enum class BatchMode {
-  kPlainGrid,        // --baseline: plain 2D occupancy grid
-  kBasicRfm,         // --no-motion-removal --no-reflection-removal
-  kMotionRemoval,    // --no-reflection-removal
-  kFull,             // motion + reflection removal
+  kPlainGrid,      // --baseline: plain 2D occupancy grid
+  kBasicRfm,       // --no-motion-removal --no-reflection-removal
+  kMotionRemoval,  // --no-reflection-removal
+  kFull,           // motion + reflection removal
 };
 
 struct BatchTimings {
@@ -29,7 +29,7 @@ struct BatchTimings {
 };
 
 struct BatchResult {
-  GlobalMap2D map;                        // final classes of every explored cell
+  GlobalMap2D map;                            // final classes of every explored cell
   std::vector<std::vector<RayLabel>> labels;  // per input scan, per beam
   BatchTimings timings;
 };
@@ -39,8 +39,7 @@ struct BatchResult {
 // map. Uses the same Mapper code as the live node. `progress(done, total)` may be empty.
 // `inspect_field`, when set, sees the final reflectance field (e.g. for theta-resolved pictures).
 BatchResult processBatch(const std::vector<TimedScan>& scans, const MapperOptions& options,
-                         BatchMode mode,
-                         const std::function<void(size_t, size_t)>& progress = {},
+                         BatchMode mode, const std::function<void(size_t, size_t)>& progress = {},
                          const std::function<void(const ReflectanceField&)>& inspect_field = {});
 
 }  // namespace rfm

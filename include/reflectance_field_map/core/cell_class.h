@@ -6,13 +6,13 @@ namespace rfm {
 
 // What the map says about a 2D cell.
 enum class CellClass : uint8_t {
-  kUnknown = 0,  // never observed
-  kFree = 1,     // observed as missed and not an obstacle
-  kStatic = 2,   // obstacle, widely visible (walls, frames, pane edges)
-  kGlass = 3,    // obstacle, reflective only near its normal and attached to a static cell
-  kMetal = 4,    // like glass, with a wider reflective lobe
-  kMotion = 5,   // reflective evidence left by a moving object: not an obstacle
-  kOccupied = 6, // obstacle not yet classified by motion removal
+  kUnknown = 0,   // never observed
+  kFree = 1,      // observed as missed and not an obstacle
+  kStatic = 2,    // obstacle, widely visible (walls, frames, pane edges)
+  kGlass = 3,     // obstacle, reflective only near its normal and attached to a static cell
+  kMetal = 4,     // like glass, with a wider reflective lobe
+  kMotion = 5,    // reflective evidence left by a moving object: not an obstacle
+  kOccupied = 6,  // obstacle not yet classified by motion removal
 };
 
 inline bool isObstacle(CellClass c) {

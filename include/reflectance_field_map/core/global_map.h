@@ -21,6 +21,10 @@ class GlobalMap2D {
   CellClass get(const CellIndex& cell) const;
   void set(const CellIndex& cell, CellClass value);
 
+  // Sets every cell of `box` to class_of(cell), tile by tile (no per-cell hashing).
+  template <typename ClassOf>
+  void assign(const CellBox& box, ClassOf&& class_of);
+
   // Bounding box of all allocated tiles (empty when nothing was set).
   CellBox bounds() const { return bounds_; }
   // Box of cells changed since the last takeChangedBox().
@@ -49,5 +53,36 @@ class GlobalMap2D {
   CellBox bounds_;
   CellBox changed_;
 };
+
+template <typename ClassOf>
+void GlobalMap2D::assign(const CellBox& box, ClassOf&& class_of) {
+  if (box.empty()) return;
+  const TileIndex first = tileOf(box.min);
+  const TileIndex last = tileOf(box.max - CellIndex(1, 1));
+  for (int ty = first.y(); ty <= last.y(); ++ty) {
+    for (int tx = first.x(); tx <= last.x(); ++tx) {
+      const TileIndex tile(tx, ty);
+      const CellBox part =
+          CellBox{tile * tile_cells_, (tile + TileIndex(1, 1)) * tile_cells_}.intersect(box);
+      auto it = tiles_.find(key(tile));
+      CellClass* cells = it == tiles_.end() ? nullptr : it->second.get();
+      for (int y = part.min.y(); y < part.max.y(); ++y) {
+        for (int x = part.min.x(); x < part.max.x(); ++x) {
+          const CellClass value = class_of(CellIndex(x, y));
+          if (cells == nullptr) {
+            if (value == CellClass::kUnknown) continue;
+            set({x, y}, value);  // allocates the tile
+            cells = tiles_.find(key(tile))->second.get();
+            continue;
+          }
+          CellClass& slot = cells[(y - ty * tile_cells_) * tile_cells_ + (x - tx * tile_cells_)];
+          if (slot == value) continue;
+          slot = value;
+          changed_ = changed_.unite({{x, y}, {x + 1, y + 1}});
+        }
+      }
+    }
+  }
+}
 
 }  // namespace rfm

@@ -23,7 +23,9 @@ inline double wrapTwoPi(double angle) {
 }
 
 // floor(a / b) for integers, b > 0.
-inline int floorDiv(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+inline int floorDiv(int a, int b) {
+  return a >= 0 ? a / b : -((-a + b - 1) / b);
+}
 // a mod b in [0, b), b > 0.
 inline int positiveMod(int a, int b) {
   const int m = a % b;

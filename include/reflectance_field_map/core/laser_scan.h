@@ -14,6 +14,7 @@ namespace rfm {
 // A planar scan in the sensor frame, as sensor_msgs/LaserScan without ROS.
 struct LaserScan2D {
   float angle_min = 0.0f;        // rad, first beam
+  float angle_max = 0.0f;        // rad, last beam
   float angle_increment = 0.0f;  // rad between beams (> 0)
   float range_min = 0.0f;        // m
   float range_max = 0.0f;        // m
@@ -46,7 +47,7 @@ BeamReading classifyBeam(float range, float range_min, float range_max);
 
 // Converts a scan taken at sensor_pose (fixed frame) into rays; invalid beams are skipped.
 // Rays are appended to `rays` (cleared first) in beam order.
-void scanToRays(const LaserScan2D& scan, const Pose2D& sensor_pose,
-                const InsertionOptions& options, std::vector<Ray>& rays);
+void scanToRays(const LaserScan2D& scan, const Pose2D& sensor_pose, const InsertionOptions& options,
+                std::vector<Ray>& rays);
 
 }  // namespace rfm

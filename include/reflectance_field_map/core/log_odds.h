@@ -19,7 +19,8 @@ class LogOddsModel {
         miss_step_(quantise(options.log_odds_miss)),
         min_value_(quantise(options.log_odds_min)),
         max_value_(quantise(options.log_odds_max)) {
-    for (int v = -128; v < 128; ++v) odds_[v + 128] = static_cast<float>(std::exp(v * kQuantum));
+    for (int v = -128; v < 128; ++v)
+      odds_[v + 128] = static_cast<float>(std::exp(v * kQuantum));
   }
 
   int8_t hit(int8_t value) const {
@@ -34,7 +35,9 @@ class LogOddsModel {
   static bool isReflective(int8_t value) { return value > 0; }  // p > 0.5
   static bool isMissed(int8_t value) { return value < 0; }
   static double toLogOdds(int8_t value) { return value * kQuantum; }
-  static double toProbability(int8_t value) { return 1.0 - 1.0 / (1.0 + std::exp(value * kQuantum)); }
+  static double toProbability(int8_t value) {
+    return 1.0 - 1.0 / (1.0 + std::exp(value * kQuantum));
+  }
   float odds(int8_t value) const { return odds_[value + 128]; }
 
   int hitStep() const { return hit_step_; }
@@ -42,7 +45,9 @@ class LogOddsModel {
   int minValue() const { return min_value_; }
   int maxValue() const { return max_value_; }
 
-  static int quantise(double log_odds) { return static_cast<int>(std::lround(log_odds / kQuantum)); }
+  static int quantise(double log_odds) {
+    return static_cast<int>(std::lround(log_odds / kQuantum));
+  }
 
  private:
   int hit_step_;

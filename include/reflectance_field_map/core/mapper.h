@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <iosfwd>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace rfm {
@@ -27,6 +28,7 @@ struct ScanUpdate {
   // Provisional per-beam labels: NO_RETURN, REFLECTION (passed through known glass, its
   // evidence beyond the glass discarded) or KEPT. Motion is decided by removeMotion().
   std::vector<RayLabel> labels;
+  std::string error;  // non-empty: the scan was malformed and rejected (nothing inserted)
   size_t bin_updates = 0;
   bool region_moved = false;
   double insert_ms = 0.0;
@@ -86,8 +88,14 @@ class Mapper {
 
   // Per-beam labels of a scan against the current map (paper Sec. VI-A): NO_RETURN, KEPT when
   // the endpoint cell is an obstacle and the ray did not pass through glass first, REFLECTION
-  // when it did, MOTION when the endpoint cell is motion (or free: the evidence was removed).
-  std::vector<RayLabel> labelScan(const TimedScan& scan) const;
+  // when it did, MOTION when the endpoint is motion. With `final_map` an endpoint whose evidence
+  // did not survive (free or unknown) is removed as MOTION too; live, it is kept until motion
+  // removal has judged it.
+  std::vector<RayLabel> labelScan(const TimedScan& scan, bool final_map = false) const;
+
+  // Discards all reflectance evidence but keeps the current classes, so the next scans are
+  // checked against the glass found so far (batch re-processing, Alg. 3 step 2).
+  void restartEvidence();
 
   void reset();
   void save(std::ostream& out) const;
@@ -98,6 +106,7 @@ class Mapper {
 
  private:
   struct Impl;
+  void revertEvidenceBehindGlass();
 
   MapperOptions options_;
   ReflectanceField field_;

@@ -24,9 +24,9 @@ class DeduplicatingRayInserter {
   // Calls target.hit(storage_index, group) / target.miss(storage_index, group).
   // `rays` are already clipped; `group_begin[g]..group_begin[g+1]` index `order`.
   template <typename Target>
-  void insert(const RollingWindow& window, double inverse_resolution,
-              const std::vector<Ray>& rays, const std::vector<uint32_t>& order,
-              const std::vector<uint32_t>& group_begin, Target& target);
+  void insert(const RollingWindow& window, double inverse_resolution, const std::vector<Ray>& rays,
+              const std::vector<uint32_t>& order, const std::vector<uint32_t>& group_begin,
+              Target& target);
 
   size_t updates() const { return updates_; }
 

@@ -56,6 +56,14 @@ class ReflectanceField {
     if (old >= 0 && v < 0) ++missed_bins_[storage_index];
   }
 
+  // Inverse updates, to take back evidence found to come from beyond glass (online Alg. 3).
+  void revertHit(const CellIndex& cell, int bin) {
+    revertAt(window_.storageIndex(cell), bin, -log_odds_.hitStep());
+  }
+  void revertMiss(const CellIndex& cell, int bin) {
+    revertAt(window_.storageIndex(cell), bin, -log_odds_.missStep());
+  }
+
   // Per-cell summaries (cell inside the active region).
   int maskWords() const { return mask_words_; }
   const uint64_t* reflectiveMask(const CellIndex& cell) const {
@@ -78,6 +86,10 @@ class ReflectanceField {
 
   // Forgets everything (active and archived).
   void clear();
+  // Recomputes every per-cell summary from the bins (after raw, summary-free insertion).
+  void rebuildAllSummaries();
+  // Raw bin storage for summary-free parallel insertion: slice `bin` of the window.
+  int8_t* slice(int bin) { return &bins_[static_cast<size_t>(bin) * plane_]; }
 
   // Binary state (window origin, active bins, archive) for save/load.
   void write(std::ostream& out) const;
@@ -85,14 +97,17 @@ class ReflectanceField {
 
  private:
   void setReflective(int storage_index, int bin, bool reflective) {
-    uint64_t& word = reflective_masks_[static_cast<size_t>(storage_index) * mask_words_ + (bin >> 6)];
+    uint64_t& word =
+        reflective_masks_[static_cast<size_t>(storage_index) * mask_words_ + (bin >> 6)];
     const uint64_t bit = uint64_t{1} << (bin & 63);
     word = reflective ? (word | bit) : (word & ~bit);
   }
+  void revertAt(int storage_index, int bin, int step);
   void archiveTile(const TileIndex& tile);
   void restoreTile(const TileIndex& tile);
   void clearTileStorage(const TileIndex& tile);
   void rebuildSummaries(const TileIndex& tile);
+  void rebuildCellSummary(int storage_index);
   void gatherTile(const TileIndex& tile, std::vector<int8_t>& bins) const;
   void scatterTile(const TileIndex& tile, const std::vector<int8_t>& bins);
 

@@ -34,7 +34,8 @@ class TileArchive {
 
   template <typename Visitor>
   void forEach(Visitor&& visit) const {
-    for (const auto& entry : tiles_) visit(unkey(entry.first), entry.second);
+    for (const auto& entry : tiles_)
+      visit(unkey(entry.first), entry.second);
   }
 
  private:

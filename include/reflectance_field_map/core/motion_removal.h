@@ -1,0 +1,60 @@
+#pragma once
+
+#include "reflectance_field_map/core/cell_class.h"
+#include "reflectance_field_map/core/occupancy.h"
+#include "reflectance_field_map/core/reflectance_field.h"
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+namespace rfm {
+
+struct MotionRemovalCounts {
+  size_t components = 0;
+  size_t static_cells = 0;
+  size_t glass_cells = 0;
+  size_t metal_cells = 0;
+  size_t motion_cells = 0;
+  size_t free_cells = 0;
+};
+
+// Motion removal (Alg. 2). Nodes are runs of contiguous reflective bins of one cell (theta
+// wraps around); two runs of 8-neighbouring cells are connected when their bins are within one
+// bin of each other, which is 26-connectivity in (x, y, theta). Components are found with an
+// iterative union-find. A component touching a widely visible cell (eq. 7), or a known
+// obstacle just outside the box, is a static structure: its cells are static (widely visible)
+// or glass/metal; any other component is motion.
+class MotionRemover {
+ public:
+  explicit MotionRemover(const OccupancyRule& rule) : rule_(rule) {}
+
+  // Classifies every cell of `box` (inside the field's active window) into `classes`
+  // (row-major, x fastest). `outside` gives the known class of cells just outside the box.
+  MotionRemovalCounts classify(const ReflectanceField& field, const CellBox& box,
+                               const std::function<CellClass(const CellIndex&)>& outside,
+                               std::vector<CellClass>& classes);
+
+ private:
+  struct Run {
+    int16_t first_bin;
+    int16_t length;  // may wrap past the last bin
+  };
+  void collectRuns(const ReflectanceField& field, const CellBox& box);
+  uint32_t find(uint32_t node);
+  void unite(uint32_t a, uint32_t b);
+  bool widelyVisible(const ReflectanceField& field, const CellIndex& cell,
+                     int reflective_bins) const;
+
+  OccupancyRule rule_;
+  std::vector<Run> runs_;
+  std::vector<uint32_t> cell_first_run_;  // CSR over box cells, size cells + 1
+  std::vector<uint32_t> parent_;
+  std::vector<uint8_t> rank_;
+  std::vector<uint8_t> anchored_;  // per root: touches a widely visible or known static cell
+};
+
+// True when circular bin intervals [a, a + a_len) and [b, b + b_len) share a bin.
+bool binIntervalsOverlap(int a, int a_len, int b, int b_len, int bins);
+
+}  // namespace rfm

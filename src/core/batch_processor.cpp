@@ -1,0 +1,181 @@
+#include "reflectance_field_map/core/batch_processor.h"
+
+#include "reflectance_field_map/core/plain_occupancy_grid.h"
+#include "reflectance_field_map/core/ray_classification.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <set>
+
+namespace rfm {
+namespace {
+
+double millisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+// The square region holding every sensor origin and every return: the batch keeps the whole
+// recording in one active region centred on it, so motion removal and labelling see it all.
+struct Extent {
+  Eigen::Vector2d centre{0.0, 0.0};
+  double half_side = 0.0;
+};
+
+Extent recordingExtent(const std::vector<TimedScan>& scans, const InsertionOptions& insertion) {
+  Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector2d high = -low;
+  std::vector<Ray> rays;
+  for (const TimedScan& scan : scans) {
+    if (!scan.scan.validate().empty()) continue;
+    low = low.cwiseMin(scan.sensor_pose.position);
+    high = high.cwiseMax(scan.sensor_pose.position);
+    scanToRays(scan.scan, scan.sensor_pose, insertion, rays);
+    for (const Ray& ray : rays) {
+      low = low.cwiseMin(ray.end);
+      high = high.cwiseMax(ray.end);
+    }
+  }
+  Extent extent;
+  if (!std::isfinite(low.x())) return extent;
+  extent.centre = 0.5 * (low + high);
+  extent.half_side = 0.5 * (high - low).maxCoeff();
+  return extent;
+}
+
+std::vector<TimedScan> centredOn(const std::vector<TimedScan>& scans, const Eigen::Vector2d& c) {
+  std::vector<TimedScan> out = scans;
+  for (TimedScan& scan : out)
+    scan.robot_pose.position = c;
+  return out;
+}
+
+// Cells that block rays (glass, metal, static) in the map, for convergence tests.
+std::set<std::pair<int, int>> blockingCells(const GlobalMap2D& map) {
+  std::set<std::pair<int, int>> cells;
+  const CellBox box = map.bounds();
+  std::vector<CellClass> classes;
+  map.extract(box, classes);
+  size_t i = 0;
+  for (int y = box.min.y(); y < box.max.y(); ++y) {
+    for (int x = box.min.x(); x < box.max.x(); ++x, ++i) {
+      if (blocksRays(classes[i]) && classes[i] != CellClass::kStatic) cells.insert({x, y});
+    }
+  }
+  return cells;
+}
+
+BatchResult processPlainGrid(const std::vector<TimedScan>& scans, MapperOptions options,
+                             const Extent& extent,
+                             const std::function<void(size_t, size_t)>& progress) {
+  BatchResult result;
+  options.active_region.active_region_radius = std::max(options.active_region.active_region_radius,
+                                                        extent.half_side + options.grid.resolution);
+  PlainOccupancyGrid grid(options.grid, options.log_odds, options.active_region);
+  grid.recenter(extent.centre);
+  std::vector<Ray> rays;
+  auto start = std::chrono::steady_clock::now();
+  for (size_t i = 0; i < scans.size(); ++i) {
+    if (scans[i].scan.validate().empty()) {
+      scanToRays(scans[i].scan, scans[i].sensor_pose, options.insertion, rays);
+      grid.insert(rays);
+    }
+    if (progress) progress(i + 1, 2 * scans.size());
+  }
+  result.timings.insert_ms = millisecondsSince(start);
+
+  const CellBox box = grid.window().box();
+  const GridGeometry geometry(options.grid.resolution, options.grid.theta_bins);
+  auto class_of = [&](const CellIndex& cell) {
+    if (!box.contains(cell)) return CellClass::kUnknown;
+    const int8_t v = grid.value(cell);
+    return v > 0 ? CellClass::kOccupied : (v < 0 ? CellClass::kFree : CellClass::kUnknown);
+  };
+  result.map.assign(box, class_of);
+  start = std::chrono::steady_clock::now();
+  result.labels.resize(scans.size());
+  for (size_t i = 0; i < scans.size(); ++i) {
+    std::vector<RayLabel>& labels = result.labels[i];
+    labels.assign(scans[i].scan.ranges.size(), RayLabel::kNoReturn);
+    if (scans[i].scan.validate().empty()) {
+      scanToRays(scans[i].scan, scans[i].sensor_pose, options.insertion, rays);
+      for (const Ray& ray : rays) {
+        if (ray.hit) labels[ray.beam] = labelEndpoint(geometry.cellOf(ray.end), true, class_of);
+      }
+    }
+    if (progress) progress(scans.size() + i + 1, 2 * scans.size());
+  }
+  result.timings.labelling_ms = millisecondsSince(start);
+  return result;
+}
+
+}  // namespace
+
+BatchResult processBatch(const std::vector<TimedScan>& input, const MapperOptions& requested,
+                         BatchMode mode, const std::function<void(size_t, size_t)>& progress,
+                         const std::function<void(const ReflectanceField&)>& inspect_field) {
+  requested.validate();
+  const Extent extent = recordingExtent(input, requested.insertion);
+  if (mode == BatchMode::kPlainGrid) return processPlainGrid(input, requested, extent, progress);
+
+  MapperOptions options = requested;
+  options.motion_removal.motion_removal_enabled = mode != BatchMode::kBasicRfm;
+  options.reflection_removal.reflection_removal_enabled = mode == BatchMode::kFull;
+  options.reflection_removal.scan_buffer_size = 0;  // batch re-processes every scan instead
+  options.active_region.active_region_radius = std::max(options.active_region.active_region_radius,
+                                                        extent.half_side + options.grid.resolution);
+  const std::vector<TimedScan> scans = centredOn(input, extent.centre);
+
+  Mapper mapper(options);
+  BatchResult result;
+  const int passes =
+      mode == BatchMode::kFull ? options.reflection_removal.max_reflection_iterations + 1 : 1;
+  const size_t total_steps = scans.size() * (passes + 1);
+  size_t done = 0;
+  std::vector<std::set<std::pair<int, int>>> history;
+  for (int pass = 0; pass < passes; ++pass) {
+    if (pass > 0) mapper.restartEvidence();
+    auto start = std::chrono::steady_clock::now();
+    for (const TimedScan& scan : scans) {
+      mapper.addScan(scan);
+      if (progress) progress(++done, total_steps);
+    }
+    result.timings.insert_ms += millisecondsSince(start);
+    start = std::chrono::steady_clock::now();
+    mapper.removeMotion();
+    result.timings.motion_removal_ms += millisecondsSince(start);
+    if (mode != BatchMode::kFull) break;
+
+    // Alg. 3 iterates until the glass found stops changing. Two panes facing each other can
+    // make it alternate (each pass erases the other pane); a repeated state ends the loop.
+    result.timings.reflection_iterations = pass + 1;
+    std::set<std::pair<int, int>> glass = blockingCells(mapper.map());
+    const bool converged = !history.empty() && glass == history.back();
+    const bool cycle =
+        !converged && std::find(history.begin(), history.end(), glass) != history.end();
+    history.push_back(std::move(glass));
+    if (converged) break;
+    if (cycle) {
+      result.timings.reflection_converged = false;
+      break;
+    }
+    if (pass + 1 == passes) result.timings.reflection_converged = false;
+  }
+  if (progress) done = scans.size() * passes;
+
+  if (inspect_field) inspect_field(mapper.field());
+  const auto start = std::chrono::steady_clock::now();
+  result.labels.resize(scans.size());
+  for (size_t i = 0; i < scans.size(); ++i) {
+    result.labels[i] = mapper.labelScan(scans[i], /*final_map=*/true);
+    if (progress) progress(std::min(total_steps, ++done), total_steps);
+  }
+  result.timings.labelling_ms = millisecondsSince(start);
+  if (progress) progress(total_steps, total_steps);
+  result.map = std::move(const_cast<GlobalMap2D&>(mapper.map()));
+  return result;
+}
+
+}  // namespace rfm

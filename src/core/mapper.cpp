@@ -1,0 +1,302 @@
+#include "reflectance_field_map/core/mapper.h"
+
+#include "reflectance_field_map/core/motion_removal.h"
+#include "reflectance_field_map/core/occupancy.h"
+#include "reflectance_field_map/core/ray_classification.h"
+#include "reflectance_field_map/core/scan_inserter.h"
+
+#include <chrono>
+#include <deque>
+#include <istream>
+#include <ostream>
+
+namespace rfm {
+namespace {
+
+constexpr uint32_t kMapperMagic = 0x52464d53;  // "RFMS"
+
+double millisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+}  // namespace
+
+// A scan as inserted, kept for online re-processing when new glass appears.
+struct BufferedScan {
+  std::vector<Ray> rays;  // after clipping to the window and truncation at known glass
+};
+
+struct Mapper::Impl {
+  Impl(const MapperOptions& options, const ReflectanceField& field)
+      : rule(options.occupancy, field.geometry().binWidth()),
+        remover(rule),
+        classes(static_cast<size_t>(field.window().sizeCells()) * field.window().sizeCells(),
+                CellClass::kUnknown) {}
+
+  OccupancyRule rule;
+  MotionRemover remover;
+  ScanInserter inserter;
+  // Classes of the active window from the last motion removal, by storage index.
+  std::vector<CellClass> classes;
+  size_t blocking_cells = 0;  // glass/metal/static cells in `classes`
+  std::deque<BufferedScan> buffer;
+  std::vector<Ray> rays;
+  std::vector<CellClass> box_classes;
+  MapperStats stats;
+};
+
+Mapper::Mapper(const MapperOptions& options)
+    : options_((options.validate(), options)),
+      field_(options.grid, options.log_odds, options.active_region),
+      map_(),
+      impl_(std::make_unique<Impl>(options, field_)) {}
+
+Mapper::~Mapper() = default;
+
+CellClass Mapper::cellClass(const CellIndex& cell) const {
+  if (field_.inActiveRegion(cell)) return impl_->classes[field_.window().storageIndex(cell)];
+  return map_.get(cell);
+}
+
+ScanUpdate Mapper::addScan(const TimedScan& scan) {
+  ScanUpdate update;
+  update.labels.assign(scan.scan.ranges.size(), RayLabel::kNoReturn);
+  update.error = scan.scan.validate();
+  if (!update.error.empty()) return update;
+
+  const WindowShift shift = field_.recenter(scan.robot_pose.position);
+  update.region_moved = shift.moved;
+  if (shift.moved) {
+    // Entering cells take the classes the global map remembers for them.
+    for (const TileIndex& tile : shift.entered) {
+      const CellBox box = field_.window().tileBox(tile);
+      for (int y = box.min.y(); y < box.max.y(); ++y) {
+        for (int x = box.min.x(); x < box.max.x(); ++x) {
+          impl_->classes[field_.window().storageIndex({x, y})] = map_.get({x, y});
+        }
+      }
+    }
+    if (!impl_->buffer.empty()) impl_->buffer.clear();  // rays refer to the old window
+  }
+
+  std::vector<Ray>& rays = impl_->rays;
+  scanToRays(scan.scan, scan.sensor_pose, options_.insertion, rays);
+  for (const Ray& ray : rays)
+    update.labels[ray.beam] = RayLabel::kKept;
+
+  auto reflection_start = std::chrono::steady_clock::now();
+  if (options_.reflection_removal.reflection_removal_enabled && impl_->blocking_cells > 0) {
+    auto class_of = [this](const CellIndex& cell) { return cellClass(cell); };
+    auto reflective_near = [this](const CellIndex& cell, int bin) {
+      if (!field_.inActiveRegion(cell)) return false;
+      const int bins = field_.geometry().thetaBins();
+      return field_.isReflective(cell, bin) || field_.isReflective(cell, (bin + 1) % bins) ||
+             field_.isReflective(cell, (bin + bins - 1) % bins);
+    };
+    for (Ray& ray : rays) {
+      const double along = firstPassThroughDistance(
+          ray, field_.geometry(), options_.reflection_removal.penetration_tolerance, class_of,
+          reflective_near);
+      if (along < 0.0) continue;
+      // Evidence beyond the blocking cell is discarded: misses up to it, no hit.
+      const Eigen::Vector2d direction = (ray.end - ray.origin).normalized();
+      ray.end = ray.origin + direction * (along + 0.5 * field_.geometry().resolution());
+      ray.hit = false;
+      update.labels[ray.beam] = RayLabel::kReflection;
+      ++impl_->stats.reflection_rays;
+    }
+  }
+  update.reflection_ms = millisecondsSince(reflection_start);
+
+  const auto insert_start = std::chrono::steady_clock::now();
+  update.bin_updates = impl_->inserter.insert(rays, field_);
+  update.insert_ms = millisecondsSince(insert_start);
+
+  if (options_.reflection_removal.scan_buffer_size > 0) {
+    impl_->buffer.push_back({rays});
+    while (impl_->buffer.size() >
+           static_cast<size_t>(options_.reflection_removal.scan_buffer_size)) {
+      impl_->buffer.pop_front();
+    }
+  }
+  ++impl_->stats.scans_processed;
+  impl_->stats.rays_inserted += rays.size();
+  impl_->stats.last_insert_ms = update.insert_ms;
+  impl_->stats.last_reflection_ms = update.reflection_ms;
+  return update;
+}
+
+MotionRemovalSummary Mapper::removeMotion() {
+  const auto start = std::chrono::steady_clock::now();
+  MotionRemovalSummary summary;
+  const CellBox box = field_.activeBox();
+  std::vector<CellClass>& box_classes = impl_->box_classes;
+  if (options_.motion_removal.motion_removal_enabled) {
+    const MotionRemovalCounts counts = impl_->remover.classify(
+        field_, box, [this](const CellIndex& cell) { return map_.get(cell); }, box_classes);
+    summary.components = counts.components;
+    summary.static_cells = counts.static_cells;
+    summary.glass_cells = counts.glass_cells;
+    summary.metal_cells = counts.metal_cells;
+    summary.motion_cells = counts.motion_cells;
+    impl_->stats.free_cells = counts.free_cells;
+  } else {
+    // Plain eq. 5 projection: occupied, free or unknown.
+    box_classes.resize(static_cast<size_t>(box.width()) * box.height());
+    size_t i = 0, free_cells = 0, occupied = 0;
+    for (int y = box.min.y(); y < box.max.y(); ++y) {
+      for (int x = box.min.x(); x < box.max.x(); ++x, ++i) {
+        box_classes[i] = impl_->rule.classify(field_, {x, y});
+        free_cells += box_classes[i] == CellClass::kFree;
+        occupied += box_classes[i] == CellClass::kOccupied;
+      }
+    }
+    summary.static_cells = occupied;
+    impl_->stats.free_cells = free_cells;
+  }
+
+  // New glass: cells now blocking that were not before.
+  size_t i = 0, blocking = 0;
+  std::vector<CellIndex> new_blocking;
+  for (int y = box.min.y(); y < box.max.y(); ++y) {
+    for (int x = box.min.x(); x < box.max.x(); ++x, ++i) {
+      CellClass& stored = impl_->classes[field_.window().storageIndex({x, y})];
+      const CellClass now = box_classes[i];
+      if (blocksRays(now)) {
+        ++blocking;
+        if (!blocksRays(stored) && now != CellClass::kStatic) new_blocking.push_back({x, y});
+      }
+      stored = now;
+    }
+  }
+  impl_->blocking_cells = blocking;
+  map_.assign(box, [&](const CellIndex& cell) {
+    return box_classes[static_cast<size_t>(cell.y() - box.min.y()) * box.width() +
+                       (cell.x() - box.min.x())];
+  });
+  summary.new_glass = !new_blocking.empty();
+  if (summary.new_glass && options_.reflection_removal.reflection_removal_enabled) {
+    revertEvidenceBehindGlass();
+  }
+  summary.elapsed_ms = millisecondsSince(start);
+  impl_->stats.last_motion_removal_ms = summary.elapsed_ms;
+  impl_->stats.occupied_cells = summary.static_cells + summary.glass_cells + summary.metal_cells;
+  impl_->stats.glass_cells = summary.glass_cells + summary.metal_cells;
+  impl_->stats.motion_cells = summary.motion_cells;
+  return summary;
+}
+
+void Mapper::revertEvidenceBehindGlass() {
+  // Online Alg. 3: buffered rays that pass through glass found since they were inserted had
+  // their evidence beyond it added; take it back with the inverse updates.
+  auto class_of = [this](const CellIndex& cell) { return cellClass(cell); };
+  auto reflective_near = [this](const CellIndex& cell, int bin) {
+    const int bins = field_.geometry().thetaBins();
+    return field_.isReflective(cell, bin) || field_.isReflective(cell, (bin + 1) % bins) ||
+           field_.isReflective(cell, (bin + bins - 1) % bins);
+  };
+  const GridGeometry& geometry = field_.geometry();
+  for (BufferedScan& buffered : impl_->buffer) {
+    for (Ray& ray : buffered.rays) {
+      const double along =
+          firstPassThroughDistance(ray, geometry, options_.reflection_removal.penetration_tolerance,
+                                   class_of, reflective_near);
+      if (along < 0.0) continue;
+      const int bin = geometry.binOf(ray.angle);
+      const Eigen::Vector2d direction = (ray.end - ray.origin).normalized();
+      const Eigen::Vector2d cut = ray.origin + direction * (along + 0.5 * geometry.resolution());
+      const CellIndex cut_cell = geometry.cellOf(cut);
+      const CellIndex end_cell = geometry.cellOf(ray.end);
+      bool beyond = false;
+      forEachCellOnRay(ray.origin, ray.end, geometry.inverseResolution(),
+                       [&](const CellIndex& cell) {
+                         if (beyond) {
+                           if (ray.hit && cell == end_cell) {
+                             field_.revertHit(cell, bin);
+                           } else {
+                             field_.revertMiss(cell, bin);
+                           }
+                         }
+                         if (cell == cut_cell) beyond = true;
+                       });
+      ray.end = cut;
+      ray.hit = false;
+    }
+  }
+}
+
+std::vector<RayLabel> Mapper::labelScan(const TimedScan& scan, bool final_map) const {
+  std::vector<RayLabel> labels(scan.scan.ranges.size(), RayLabel::kNoReturn);
+  if (!scan.scan.validate().empty()) return labels;
+  std::vector<Ray> rays;
+  scanToRays(scan.scan, scan.sensor_pose, options_.insertion, rays);
+  auto class_of = [this](const CellIndex& cell) { return cellClass(cell); };
+  auto reflective_near = [this](const CellIndex& cell, int bin) {
+    if (!field_.inActiveRegion(cell)) return false;
+    const int bins = field_.geometry().thetaBins();
+    return field_.isReflective(cell, bin) || field_.isReflective(cell, (bin + 1) % bins) ||
+           field_.isReflective(cell, (bin + bins - 1) % bins);
+  };
+  const bool check_reflections =
+      options_.reflection_removal.reflection_removal_enabled && impl_->blocking_cells > 0;
+  for (const Ray& ray : rays) {
+    if (!ray.hit) continue;  // no return: nothing to keep or remove
+    if (check_reflections &&
+        firstPassThroughDistance(ray, field_.geometry(),
+                                 options_.reflection_removal.penetration_tolerance, class_of,
+                                 reflective_near) >= 0.0) {
+      labels[ray.beam] = RayLabel::kReflection;
+      continue;
+    }
+    labels[ray.beam] = labelEndpoint(field_.geometry().cellOf(ray.end), final_map, class_of);
+  }
+  return labels;
+}
+
+void Mapper::restartEvidence() {
+  // Classes live on in the global map; the next scan re-places the window and restores them.
+  field_.clear();
+  impl_->buffer.clear();
+}
+
+void Mapper::reset() {
+  field_.clear();
+  map_.clear();
+  std::fill(impl_->classes.begin(), impl_->classes.end(), CellClass::kUnknown);
+  impl_->blocking_cells = 0;
+  impl_->buffer.clear();
+  impl_->stats = MapperStats();
+}
+
+void Mapper::save(std::ostream& out) const {
+  const uint32_t magic = kMapperMagic;
+  out.write(reinterpret_cast<const char*>(&magic), sizeof(magic));
+  map_.write(out);
+  field_.write(out);
+}
+
+bool Mapper::load(std::istream& in) {
+  uint32_t magic = 0;
+  if (!in.read(reinterpret_cast<char*>(&magic), sizeof(magic)) || magic != kMapperMagic) {
+    return false;
+  }
+  GlobalMap2D map;
+  if (!map.read(in)) return false;
+  if (!field_.read(in)) return false;  // leaves the field untouched on failure
+  map_ = std::move(map);
+  // The window is placed afresh by the next scan; its classes then come from the loaded map.
+  std::fill(impl_->classes.begin(), impl_->classes.end(), CellClass::kUnknown);
+  impl_->blocking_cells = 0;
+  impl_->buffer.clear();
+  return true;
+}
+
+MapperStats Mapper::stats() const {
+  MapperStats stats = impl_->stats;
+  stats.field_bytes = field_.activeBytes();
+  stats.archived_bytes = field_.archivedBytes();
+  return stats;
+}
+
+}  // namespace rfm

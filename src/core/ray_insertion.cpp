@@ -1,0 +1,51 @@
+#include "reflectance_field_map/core/ray_insertion.h"
+
+#include <algorithm>
+
+namespace rfm {
+
+bool clipRayToBox(const CellBox& box, double resolution, Ray& ray) {
+  // Liang-Barsky against the box shrunk by a hair, so clipped points stay in its cells.
+  const double margin = 1e-6 * resolution;
+  const Eigen::Vector2d low =
+      box.min.cast<double>() * resolution + Eigen::Vector2d::Constant(margin);
+  const Eigen::Vector2d high =
+      box.max.cast<double>() * resolution - Eigen::Vector2d::Constant(margin);
+  const Eigen::Vector2d delta = ray.end - ray.origin;
+  double t_enter = 0.0, t_exit = 1.0;
+  for (int axis = 0; axis < 2; ++axis) {
+    if (delta[axis] == 0.0) {
+      if (ray.origin[axis] < low[axis] || ray.origin[axis] > high[axis]) return false;
+      continue;
+    }
+    double t0 = (low[axis] - ray.origin[axis]) / delta[axis];
+    double t1 = (high[axis] - ray.origin[axis]) / delta[axis];
+    if (t0 > t1) std::swap(t0, t1);
+    t_enter = std::max(t_enter, t0);
+    t_exit = std::min(t_exit, t1);
+    if (t_enter > t_exit) return false;
+  }
+  if (t_exit < 1.0) {
+    ray.end = ray.origin + t_exit * delta;
+    ray.hit = false;
+  }
+  if (t_enter > 0.0) ray.origin = ray.origin + t_enter * delta;
+  return true;
+}
+
+void DeduplicatingRayInserter::prepare(size_t slots) {
+  if (stamps_.size() != slots) {
+    stamps_.assign(slots, 0);
+    stamp_ = 0;
+  }
+}
+
+uint32_t DeduplicatingRayInserter::nextStamp() {
+  if (++stamp_ == 0) {  // wrapped after 2^32 groups: old stamps could collide
+    std::fill(stamps_.begin(), stamps_.end(), 0);
+    stamp_ = 1;
+  }
+  return stamp_;
+}
+
+}  // namespace rfm

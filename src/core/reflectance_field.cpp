@@ -1,0 +1,233 @@
+#include "reflectance_field_map/core/reflectance_field.h"
+
+#include <algorithm>
+#include <cmath>
+#include <istream>
+#include <ostream>
+
+namespace rfm {
+namespace {
+
+constexpr uint32_t kStateMagic = 0x52464d31;  // "RFM1"
+
+template <typename T>
+void writeValue(std::ostream& out, const T& value) {
+  out.write(reinterpret_cast<const char*>(&value), sizeof(T));
+}
+template <typename T>
+bool readValue(std::istream& in, T& value) {
+  return static_cast<bool>(in.read(reinterpret_cast<char*>(&value), sizeof(T)));
+}
+
+}  // namespace
+
+int activeWindowTiles(double radius, double resolution, int tile_cells) {
+  // The robot may be anywhere in the centre tile: each side needs ceil(radius / tile) tiles.
+  const int side_tiles = static_cast<int>(std::ceil(radius / (tile_cells * resolution) - 1e-9));
+  return 2 * side_tiles + 1;
+}
+
+ReflectanceField::ReflectanceField(const GridOptions& grid, const LogOddsOptions& log_odds,
+                                   const ActiveRegionOptions& region)
+    : geometry_(grid.resolution, grid.theta_bins),
+      log_odds_(log_odds),
+      window_(grid.tile_cells,
+              activeWindowTiles(region.active_region_radius, grid.resolution, grid.tile_cells)),
+      theta_bins_(grid.theta_bins),
+      plane_(static_cast<size_t>(window_.sizeCells()) * window_.sizeCells()),
+      mask_words_((grid.theta_bins + 63) / 64),
+      bins_(plane_ * theta_bins_, 0),
+      reflective_masks_(plane_ * mask_words_, 0),
+      missed_bins_(plane_, 0) {}
+
+WindowShift ReflectanceField::recenter(const Eigen::Vector2d& robot_position) {
+  const TileIndex origin = window_.originCentredOn(geometry_.cellOf(robot_position));
+  if (!centred_) {
+    // First placement: everything enters (a loaded archive may hold some of it).
+    centred_ = true;
+    window_.setOrigin(origin);
+    WindowShift shift;
+    shift.moved = true;
+    shift.entered = window_.tiles();
+    for (const TileIndex& tile : shift.entered)
+      restoreTile(tile);
+    return shift;
+  }
+  WindowShift shift = diffWindows(window_, origin);
+  if (!shift.moved) return shift;
+  for (const TileIndex& tile : shift.left) {
+    archiveTile(tile);
+    clearTileStorage(tile);
+  }
+  window_.setOrigin(origin);
+  for (const TileIndex& tile : shift.entered)
+    restoreTile(tile);
+  return shift;
+}
+
+int ReflectanceField::reflectiveBins(const CellIndex& cell) const {
+  const uint64_t* mask = reflectiveMask(cell);
+  int count = 0;
+  for (int w = 0; w < mask_words_; ++w)
+    count += __builtin_popcountll(mask[w]);
+  return count;
+}
+
+double ReflectanceField::marginalOdds(const CellIndex& cell) const {
+  const size_t index = window_.storageIndex(cell);
+  double sum = 0.0;
+  for (int bin = 0; bin < theta_bins_; ++bin)
+    sum += log_odds_.odds(bins_[bin * plane_ + index]);
+  return sum * geometry_.binWidth();
+}
+
+size_t ReflectanceField::activeBytes() const {
+  return bins_.size() * sizeof(int8_t) + reflective_masks_.size() * sizeof(uint64_t) +
+         missed_bins_.size() * sizeof(uint16_t);
+}
+
+void ReflectanceField::clear() {
+  std::fill(bins_.begin(), bins_.end(), 0);
+  std::fill(reflective_masks_.begin(), reflective_masks_.end(), 0);
+  std::fill(missed_bins_.begin(), missed_bins_.end(), 0);
+  archive_.clear();
+  centred_ = false;
+}
+
+void ReflectanceField::gatherTile(const TileIndex& tile, std::vector<int8_t>& bins) const {
+  const int t = window_.tileCells();
+  const int size = window_.sizeCells();
+  bins.resize(static_cast<size_t>(t) * t * theta_bins_);
+  const int x0 = window_.storageCoordinate(tile.x() * t);
+  const int y0 = window_.storageCoordinate(tile.y() * t);
+  int8_t* out = bins.data();
+  for (int bin = 0; bin < theta_bins_; ++bin) {
+    for (int row = 0; row < t; ++row) {
+      const int8_t* src = &bins_[bin * plane_ + static_cast<size_t>(y0 + row) * size + x0];
+      out = std::copy(src, src + t, out);
+    }
+  }
+}
+
+void ReflectanceField::scatterTile(const TileIndex& tile, const std::vector<int8_t>& bins) {
+  const int t = window_.tileCells();
+  const int size = window_.sizeCells();
+  const int x0 = window_.storageCoordinate(tile.x() * t);
+  const int y0 = window_.storageCoordinate(tile.y() * t);
+  const int8_t* in = bins.data();
+  for (int bin = 0; bin < theta_bins_; ++bin) {
+    for (int row = 0; row < t; ++row) {
+      std::copy(in, in + t, &bins_[bin * plane_ + static_cast<size_t>(y0 + row) * size + x0]);
+      in += t;
+    }
+  }
+}
+
+void ReflectanceField::archiveTile(const TileIndex& tile) {
+  std::vector<int8_t> bins;
+  gatherTile(tile, bins);
+  const bool observed = std::any_of(bins.begin(), bins.end(), [](int8_t v) { return v != 0; });
+  if (observed) {
+    archive_.store(tile, compressBins(bins.data(), bins.size()));
+  } else {
+    archive_.take(tile);  // drop a stale copy, if any
+  }
+}
+
+void ReflectanceField::clearTileStorage(const TileIndex& tile) {
+  const int t = window_.tileCells();
+  const int size = window_.sizeCells();
+  const int x0 = window_.storageCoordinate(tile.x() * t);
+  const int y0 = window_.storageCoordinate(tile.y() * t);
+  for (int bin = 0; bin < theta_bins_; ++bin) {
+    for (int row = 0; row < t; ++row) {
+      int8_t* dst = &bins_[bin * plane_ + static_cast<size_t>(y0 + row) * size + x0];
+      std::fill(dst, dst + t, 0);
+    }
+  }
+  for (int row = 0; row < t; ++row) {
+    const size_t first = static_cast<size_t>(y0 + row) * size + x0;
+    std::fill(&missed_bins_[first], &missed_bins_[first] + t, 0);
+    std::fill(&reflective_masks_[first * mask_words_],
+              &reflective_masks_[(first + t) * mask_words_], 0);
+  }
+}
+
+void ReflectanceField::restoreTile(const TileIndex& tile) {
+  std::vector<uint8_t> packed = archive_.take(tile);
+  if (packed.empty()) return;  // never observed: storage is already clear
+  std::vector<int8_t> bins(static_cast<size_t>(window_.tileCells()) * window_.tileCells() *
+                           theta_bins_);
+  if (!decompressBins(packed, bins.data(), bins.size())) return;  // corrupt: start afresh
+  scatterTile(tile, bins);
+  rebuildSummaries(tile);
+}
+
+void ReflectanceField::rebuildSummaries(const TileIndex& tile) {
+  const CellBox box = window_.tileBox(tile);
+  for (int y = box.min.y(); y < box.max.y(); ++y) {
+    for (int x = box.min.x(); x < box.max.x(); ++x)
+      rebuildCellSummary(window_.storageIndex({x, y}));
+  }
+}
+
+void ReflectanceField::rebuildCellSummary(int storage_index) {
+  uint64_t* mask = &reflective_masks_[static_cast<size_t>(storage_index) * mask_words_];
+  std::fill(mask, mask + mask_words_, 0);
+  uint16_t missed = 0;
+  for (int bin = 0; bin < theta_bins_; ++bin) {
+    const int8_t v = bins_[bin * plane_ + storage_index];
+    if (v > 0) mask[bin >> 6] |= uint64_t{1} << (bin & 63);
+    if (v < 0) ++missed;
+  }
+  missed_bins_[storage_index] = missed;
+}
+
+void ReflectanceField::rebuildAllSummaries() {
+  for (size_t index = 0; index < plane_; ++index)
+    rebuildCellSummary(static_cast<int>(index));
+}
+
+void ReflectanceField::revertAt(int storage_index, int bin, int step) {
+  int8_t& v = bins_[static_cast<size_t>(bin) * plane_ + storage_index];
+  const int updated = std::clamp(v + step, log_odds_.minValue(), log_odds_.maxValue());
+  v = static_cast<int8_t>(updated);
+  rebuildCellSummary(storage_index);
+}
+
+void ReflectanceField::write(std::ostream& out) const {
+  writeValue(out, kStateMagic);
+  writeValue(out, static_cast<int32_t>(theta_bins_));
+  writeValue(out, static_cast<int32_t>(window_.tileCells()));
+  writeValue(out, geometry_.resolution());
+  // Active tiles are written like archived ones, so a load restores them when re-centring.
+  TileArchive all = archive_;
+  if (centred_) {
+    std::vector<int8_t> bins;
+    for (const TileIndex& tile : window_.tiles()) {
+      gatherTile(tile, bins);
+      if (std::any_of(bins.begin(), bins.end(), [](int8_t v) { return v != 0; })) {
+        all.store(tile, compressBins(bins.data(), bins.size()));
+      }
+    }
+  }
+  all.write(out);
+}
+
+bool ReflectanceField::read(std::istream& in) {
+  uint32_t magic = 0;
+  int32_t bins = 0, tile_cells = 0;
+  double resolution = 0.0;
+  if (!readValue(in, magic) || magic != kStateMagic || !readValue(in, bins) ||
+      !readValue(in, tile_cells) || !readValue(in, resolution) || bins != theta_bins_ ||
+      tile_cells != window_.tileCells() || resolution != geometry_.resolution()) {
+    return false;
+  }
+  TileArchive loaded;
+  if (!loaded.read(in)) return false;
+  clear();
+  archive_ = std::move(loaded);
+  return true;
+}
+
+}  // namespace rfm

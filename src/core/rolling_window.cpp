@@ -1,0 +1,44 @@
+#include "reflectance_field_map/core/rolling_window.h"
+
+namespace rfm {
+
+RollingWindow::RollingWindow(int tile_cells, int tiles_per_side)
+    : tile_cells_(tile_cells), tiles_per_side_(tiles_per_side) {}
+
+CellBox RollingWindow::box() const {
+  return {origin_tile_ * tile_cells_,
+          (origin_tile_ + TileIndex(tiles_per_side_, tiles_per_side_)) * tile_cells_};
+}
+
+std::vector<TileIndex> RollingWindow::tiles() const {
+  std::vector<TileIndex> out;
+  out.reserve(static_cast<size_t>(tiles_per_side_) * tiles_per_side_);
+  for (int y = 0; y < tiles_per_side_; ++y) {
+    for (int x = 0; x < tiles_per_side_; ++x)
+      out.push_back(origin_tile_ + TileIndex(x, y));
+  }
+  return out;
+}
+
+WindowShift diffWindows(const RollingWindow& from, const TileIndex& new_origin) {
+  WindowShift shift;
+  const TileIndex old_origin = from.originTile();
+  if (old_origin == new_origin) return shift;
+  shift.moved = true;
+  const int n = from.tilesPerSide();
+  auto inside = [n](const TileIndex& tile, const TileIndex& origin) {
+    const TileIndex d = tile - origin;
+    return d.x() >= 0 && d.y() >= 0 && d.x() < n && d.y() < n;
+  };
+  for (int y = 0; y < n; ++y) {
+    for (int x = 0; x < n; ++x) {
+      const TileIndex old_tile = old_origin + TileIndex(x, y);
+      if (!inside(old_tile, new_origin)) shift.left.push_back(old_tile);
+      const TileIndex new_tile = new_origin + TileIndex(x, y);
+      if (!inside(new_tile, old_origin)) shift.entered.push_back(new_tile);
+    }
+  }
+  return shift;
+}
+
+}  // namespace rfm

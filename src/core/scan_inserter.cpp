@@ -1,0 +1,47 @@
+#include "reflectance_field_map/core/scan_inserter.h"
+
+namespace rfm {
+
+namespace {
+
+struct FieldTarget {
+  ReflectanceField& field;
+  void hit(int slot, int bin) { field.applyHitAt(slot, bin); }
+  void miss(int slot, int bin) { field.applyMissAt(slot, bin); }
+};
+
+}  // namespace
+
+void bucketRaysByBin(const std::vector<Ray>& rays, const GridGeometry& geometry,
+                     std::vector<uint32_t>& order, std::vector<uint32_t>& group_begin) {
+  const int bins = geometry.thetaBins();
+  group_begin.assign(bins + 1, 0);
+  std::vector<int> ray_bins(rays.size());
+  for (size_t i = 0; i < rays.size(); ++i) {
+    ray_bins[i] = geometry.binOf(rays[i].angle);
+    ++group_begin[ray_bins[i] + 1];
+  }
+  for (int b = 0; b < bins; ++b)
+    group_begin[b + 1] += group_begin[b];
+  order.resize(rays.size());
+  std::vector<uint32_t> next(group_begin.begin(), group_begin.end() - 1);
+  for (size_t i = 0; i < rays.size(); ++i)
+    order[next[ray_bins[i]]++] = static_cast<uint32_t>(i);
+}
+
+size_t ScanInserter::insert(const std::vector<Ray>& rays, ReflectanceField& field) {
+  const CellBox box = field.activeBox();
+  const double resolution = field.geometry().resolution();
+  clipped_.clear();
+  for (const Ray& ray : rays) {
+    Ray clipped = ray;
+    if (clipRayToBox(box, resolution, clipped)) clipped_.push_back(clipped);
+  }
+  bucketRaysByBin(clipped_, field.geometry(), order_, group_begin_);
+  FieldTarget target{field};
+  inserter_.insert(field.window(), field.geometry().inverseResolution(), clipped_, order_,
+                   group_begin_, target);
+  return inserter_.updates();
+}
+
+}  // namespace rfm
