@@ -1,0 +1,65 @@
+#pragma once
+
+#include "reflectance_field_map/core/mapper.h"
+
+#include <ros/time.h>
+
+#include <cstdint>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace rfm {
+namespace offline {
+
+// The bag can't be turned into scans (unreadable, topics missing, TF missing): what() says
+// why and what to do, in a few lines.
+class BagInputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct BagInputOptions {
+  std::string bag;
+  std::vector<std::string> scan_topics;
+  bool require_all_topics = false;  // else topics absent from the bag are skipped with a warning
+  std::string fixed_frame = "odom";
+  std::string base_frame = "base_link";
+};
+
+// Where one TimedScan came from, to label it back in the bag's terms.
+struct ScanSource {
+  uint32_t topic_index = 0;
+  uint32_t seq = 0;
+  ros::Time stamp;     // header stamp
+  ros::Time bag_time;  // time the scan was recorded in the bag
+  std::string frame_id;
+  bool reversed = false;  // angle_increment < 0 in the bag: beams were reversed for the core
+};
+
+struct BagScans {
+  std::vector<std::string> topics;          // scan topics read (present in the bag)
+  std::vector<std::string> missing_topics;  // requested but absent
+  std::vector<TimedScan> scans;             // by header stamp (stable)
+  std::vector<ScanSource> sources;          // parallel to scans
+  std::vector<uint64_t> scans_per_topic;    // parallel to topics
+  uint64_t tf_messages = 0;                 // /tf + /tf_static messages loaded
+  double duration = 0.0;                    // s, first to last scan stamp
+  std::vector<std::string> notes;           // decisions worth telling the user
+};
+
+// Reads all scans of the requested topics and their poses: TF comes from the bag's /tf and
+// /tf_static (one tf2::BufferCore whose cache spans the whole bag). The laser pose and the
+// base pose are looked up in the fixed frame at each scan's stamp; a scan already in the
+// fixed frame has the identity pose (a stationary sensor: pass --fixed-frame <scan frame>).
+// Every scan is kept: any scan without TF or with malformed geometry makes this throw
+// BagInputError with counts per topic. `progress(done, total)` may be empty.
+BagScans readBagScans(const BagInputOptions& options,
+                      const std::function<void(size_t, size_t)>& progress = {});
+
+// A tf2 frame id as tf2 wants it (no leading '/').
+std::string normalizedFrame(const std::string& frame);
+
+}  // namespace offline
+}  // namespace rfm
