@@ -1,0 +1,84 @@
+#pragma once
+
+#include "reflectance_field_map/RayLabels.h"
+#include "reflectance_field_map/core/cell_class.h"
+#include "reflectance_field_map/core/global_map.h"
+#include "reflectance_field_map/core/grid_geometry.h"
+#include "reflectance_field_map/core/laser_scan.h"
+
+#include <geometry_msgs/Quaternion.h>
+#include <geometry_msgs/Transform.h>
+#include <map_msgs/OccupancyGridUpdate.h>
+#include <nav_msgs/OccupancyGrid.h>
+#include <sensor_msgs/LaserScan.h>
+#include <std_msgs/ColorRGBA.h>
+#include <visualization_msgs/Marker.h>
+
+#include <string>
+#include <vector>
+
+// Free conversion functions between ROS messages and the ROS-free core types.
+namespace reflectance_field_map {
+
+// Yaw (rotation about z, REP-103) of a quaternion; the quaternion need not be normalised.
+double yawFromQuaternion(const geometry_msgs::Quaternion& q);
+
+// A 3D transform projected on the plane: position (x, y) and yaw from the quaternion.
+rfm::Pose2D toPose2D(const geometry_msgs::Transform& transform);
+
+// A laser's pose in the plane. A laser mounted upside down (its z axis pointing down) sweeps
+// clockwise seen from above: its scan is mirrored (see toLaserScan2D) and `pose.yaw` is the
+// heading of its x axis.
+struct PlanarSensorPose {
+  rfm::Pose2D pose;
+  bool upside_down = false;
+};
+PlanarSensorPose toPlanarSensorPose(const geometry_msgs::Transform& transform);
+
+// sensor_msgs/LaserScan -> core scan. With `upside_down` the beams are reversed and their
+// angles negated so that the scan sweeps counter-clockwise in the plane; labels computed on it
+// come back to message order through toMessageOrder().
+rfm::LaserScan2D toLaserScan2D(const sensor_msgs::LaserScan& msg, bool upside_down = false);
+std::vector<rfm::RayLabel> toMessageOrder(std::vector<rfm::RayLabel> labels, bool upside_down);
+
+// The scan with every MOTION and REFLECTION beam set to +inf (REP-117: no return); `labels`
+// in message order, one per beam (beams without a label are left as they are).
+sensor_msgs::LaserScan filterScan(const sensor_msgs::LaserScan& scan,
+                                  const std::vector<rfm::RayLabel>& labels);
+
+RayLabels toRayLabelsMsg(const std_msgs::Header& header, const std::string& topic,
+                         const std::vector<rfm::RayLabel>& labels);
+
+// Occupancy values (-1/0/100, rfm::occupancyValue) of `box`, row-major, x fastest.
+void toOccupancyData(const rfm::GlobalMap2D& map, const rfm::CellBox& box,
+                     std::vector<int8_t>& data);
+
+// The cells of `box` as an OccupancyGrid in `frame` (origin at the box's lower-left corner).
+nav_msgs::OccupancyGrid toOccupancyGrid(const rfm::GlobalMap2D& map, const rfm::CellBox& box,
+                                        double resolution, const std::string& frame,
+                                        const ros::Time& stamp);
+
+// The cells of `window` as an update of a grid published over `grid_box` (window inside it).
+map_msgs::OccupancyGridUpdate toOccupancyGridUpdate(const rfm::GlobalMap2D& map,
+                                                    const rfm::CellBox& window,
+                                                    const rfm::CellBox& grid_box,
+                                                    const std::string& frame,
+                                                    const ros::Time& stamp);
+
+// Fig. 1 of the paper: glass blue, metal red, motion magenta, static green, reflections cyan.
+std_msgs::ColorRGBA classColor(rfm::CellClass cell_class);
+
+// One CUBE_LIST with a cube per cell of `cell_class` in `box` (action DELETE when there is
+// none), namespace `ns`, coloured by classColor().
+visualization_msgs::Marker toCubeList(const rfm::GlobalMap2D& map, const rfm::CellBox& box,
+                                      rfm::CellClass cell_class, double resolution,
+                                      const std::string& frame, const ros::Time& stamp,
+                                      const std::string& ns, int id);
+
+// Same from an already extracted box (rfm::GlobalMap2D::extract), for several classes at once.
+visualization_msgs::Marker toCubeList(const std::vector<rfm::CellClass>& cells,
+                                      const rfm::CellBox& box, rfm::CellClass cell_class,
+                                      double resolution, const std::string& frame,
+                                      const ros::Time& stamp, const std::string& ns, int id);
+
+}  // namespace reflectance_field_map

@@ -1,0 +1,139 @@
+#pragma once
+
+#include "reflectance_field_map/LoadMap.h"
+#include "reflectance_field_map/SaveMap.h"
+#include "reflectance_field_map/core/mapper.h"
+#include "reflectance_field_map/ros/parameters.h"
+
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <diagnostic_updater/update_functions.h>
+#include <message_filters/pass_through.h>
+#include <message_filters/subscriber.h>
+#include <ros/ros.h>
+#include <sensor_msgs/LaserScan.h>
+#include <std_srvs/Trigger.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/message_filter.h>
+#include <tf2_ros/transform_listener.h>
+
+#include <atomic>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace reflectance_field_map {
+
+// The live Reflectance Field Map front-end shared by rfm_node and the RfmNodelet: owns one
+// rfm::Mapper, feeds it the scans of every scan topic once TF knows the laser and the robot at
+// the scan's stamp, runs motion removal on a timer and publishes the map (/rfm/map,
+// /rfm/map_updates), the glass and motion markers, one filtered scan per input, statistics and
+// diagnostics. Services ~save_map, ~load_map and ~reset.
+//
+// Callbacks may run on several threads (nodelet manager, TF listener): the mapper and the
+// publishing state are guarded by one mutex, the counters by another.
+class MapperRos {
+ public:
+  // Reads and validates the private parameters (throws rfm::InvalidOption naming the
+  // parameter before anything is subscribed or advertised), then sets up the ROS interfaces.
+  MapperRos(const ros::NodeHandle& nh, const ros::NodeHandle& private_nh);
+  ~MapperRos();
+  MapperRos(const MapperRos&) = delete;
+  MapperRos& operator=(const MapperRos&) = delete;
+
+  const RosParameters& parameters() const { return params_; }
+
+  // "invalid parameter ~NAME: NAME = VALUE is invalid: allowed RANGE" for a FATAL log.
+  static std::string describeParameterError(const rfm::InvalidOption& error);
+
+ private:
+  using ScanFilter = tf2_ros::MessageFilter<sensor_msgs::LaserScan>;
+
+  struct ScanInput {
+    uint32_t id = 0;
+    std::string topic;  // as configured (absolute or relative to the node's namespace)
+    std::string leaf;   // last component: /rfm/<leaf>/filtered
+    message_filters::Subscriber<sensor_msgs::LaserScan> subscriber;
+    message_filters::PassThrough<sensor_msgs::LaserScan> valid;  // scans that passed validate()
+    std::unique_ptr<ScanFilter> tf_filter;
+    ros::Publisher filtered_pub;
+    ros::Publisher labels_pub;
+    double min_rate = 0.0, max_rate = 0.0;
+    std::unique_ptr<diagnostic_updater::FrequencyStatus> rate;
+    ros::Time last_stamp;  // newest processed scan
+    std::atomic<uint64_t> received{0}, processed{0}, malformed{0}, tf_failures{0};
+  };
+
+  void setParams();
+  void setRosInterfaces();
+  void setDiagnostics();
+
+  // Subscriber -> incomingScan (rate, time jumps, validation) -> PassThrough -> TF filter ->
+  // processScan; the TF filter reports scans it gives up on to tfFailure.
+  void incomingScan(ScanInput& input, const sensor_msgs::LaserScanConstPtr& msg);
+  void processScan(ScanInput& input, const sensor_msgs::LaserScanConstPtr& msg);
+  void tfFailure(ScanInput& input, const sensor_msgs::LaserScanConstPtr& msg,
+                 tf2_ros::FilterFailureReason reason);
+
+  void motionRemovalTimer(const ros::TimerEvent& event);
+  void mapTimer(const ros::TimerEvent& event);
+  void markerTimer(const ros::TimerEvent& event);
+  void statsTimer(const ros::TimerEvent& event);
+  void watchdogTimer(const ros::WallTimerEvent& event);
+  void diagnosticsTimer(const ros::WallTimerEvent& event);
+
+  bool saveMap(SaveMap::Request& request, SaveMap::Response& response);
+  bool loadMap(LoadMap::Request& request, LoadMap::Response& response);
+  bool reset(std_srvs::Trigger::Request& request, std_srvs::Trigger::Response& response);
+
+  // ROS time went back (a looping bag): clears TF and the queued scans and resets the mapper.
+  bool checkTimeJump();
+  void resetAfterTimeJump(const std::string& why);
+
+  // With mapper_mutex_ held.
+  void runMotionRemovalLocked();
+  void publishFullMapLocked();
+  void publishMapUpdateLocked();
+  void publishMarkersLocked();
+  void resetMapperLocked();
+
+  void diagnoseTf(diagnostic_updater::DiagnosticStatusWrapper& status);
+  void diagnoseInput(diagnostic_updater::DiagnosticStatusWrapper& status);
+  void diagnoseMapper(diagnostic_updater::DiagnosticStatusWrapper& status);
+
+  ros::NodeHandle nh_;
+  ros::NodeHandle private_nh_;
+  RosParameters params_;
+
+  std::mutex mapper_mutex_;
+  std::unique_ptr<rfm::Mapper> mapper_;
+  uint64_t scans_since_motion_removal_ = 0;
+  bool map_published_ = false;
+  rfm::CellBox published_box_;   // geometry of the last full /rfm/map
+  bool map_changed_ = true;      // since the last full map
+  bool markers_changed_ = true;  // since the last markers
+  double last_publish_ms_ = 0.0;
+
+  std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
+  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  std::vector<std::unique_ptr<ScanInput>> inputs_;
+
+  ros::Publisher map_pub_, map_update_pub_, glass_pub_, motion_pub_, stats_pub_;
+  ros::ServiceServer save_service_, load_service_, reset_service_;
+  ros::Timer motion_timer_, map_timer_, marker_timer_, stats_timer_;
+  ros::WallTimer watchdog_timer_, diagnostics_timer_;
+  std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
+
+  // Counters (also written from the TF listener thread through tfFailure).
+  std::mutex counters_mutex_;
+  std::set<std::string> frames_not_in_tf_;
+  std::string last_tf_error_;
+  std::atomic<uint64_t> scans_dropped_{0}, tf_failures_{0}, queue_overflows_{0},
+      malformed_scans_{0}, time_jumps_{0}, scans_processed_{0};
+  uint64_t tf_failures_reported_ = 0, malformed_reported_ = 0, time_jumps_reported_ = 0;
+  ros::Time newest_time_;  // newest ROS time seen, to detect jumps back
+};
+
+}  // namespace reflectance_field_map

@@ -1,0 +1,123 @@
+#include "reflectance_field_map/ros/map_files.h"
+
+#include "reflectance_field_map/ros/conversions.h"
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+namespace reflectance_field_map {
+namespace {
+
+bool fail(std::string* error, const std::string& message) {
+  if (error != nullptr) *error = message;
+  return false;
+}
+
+std::string reason() {
+  return errno != 0 ? std::strerror(errno) : "write error";
+}
+
+std::string baseName(const std::string& path) {
+  const size_t slash = path.rfind('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+bool endsWith(const std::string& text, const std::string& suffix) {
+  return text.size() >= suffix.size() &&
+         text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+}  // namespace
+
+bool writeMapServerFiles(const std::string& prefix, const nav_msgs::OccupancyGrid& grid,
+                         std::string* error) {
+  const uint32_t width = grid.info.width, height = grid.info.height;
+  if (prefix.empty()) return fail(error, "empty path");
+  if (width == 0 || height == 0) return fail(error, "the map is empty: nothing to save");
+  if (grid.data.size() != static_cast<size_t>(width) * height) {
+    return fail(error, "grid data size does not match width * height");
+  }
+  const std::string pgm_path = prefix + ".pgm";
+  const std::string yaml_path = prefix + ".yaml";
+  {
+    errno = 0;
+    std::ofstream pgm(pgm_path, std::ios::binary | std::ios::trunc);
+    if (!pgm) return fail(error, "cannot write " + pgm_path + ": " + reason());
+    pgm << "P5\n# CREATOR: reflectance_field_map " << grid.info.resolution << " m/pix\n"
+        << width << ' ' << height << "\n255\n";
+    std::string row(width, '\0');
+    for (uint32_t y = 0; y < height; ++y) {
+      const size_t base = static_cast<size_t>(height - 1 - y) * width;  // top row = highest y
+      for (uint32_t x = 0; x < width; ++x) {
+        const int8_t value = grid.data[base + x];
+        unsigned char pixel = 205;  // unknown
+        if (value == 0) {
+          pixel = 254;
+        } else if (value >= 65) {  // occupied_thresh 0.65
+          pixel = 0;
+        } else if (value > 0) {
+          pixel = static_cast<unsigned char>(255 - (255 * value) / 100);
+        }
+        row[x] = static_cast<char>(pixel);
+      }
+      pgm.write(row.data(), static_cast<std::streamsize>(row.size()));
+    }
+    pgm.flush();
+    if (!pgm) return fail(error, "cannot write " + pgm_path + ": " + reason());
+  }
+  {
+    errno = 0;
+    std::ofstream yaml(yaml_path, std::ios::trunc);
+    if (!yaml) return fail(error, "cannot write " + yaml_path + ": " + reason());
+    const double yaw = yawFromQuaternion(grid.info.origin.orientation);
+    yaml << std::setprecision(10) << "image: " << baseName(pgm_path) << "\n"
+         << "resolution: " << grid.info.resolution << "\n"
+         << "origin: [" << grid.info.origin.position.x << ", " << grid.info.origin.position.y
+         << ", " << yaw << "]\n"
+         << "negate: 0\n"
+         << "occupied_thresh: 0.65\n"
+         << "free_thresh: 0.196\n";
+    yaml.flush();
+    if (!yaml) return fail(error, "cannot write " + yaml_path + ": " + reason());
+  }
+  return true;
+}
+
+std::string stateFilePath(const std::string& prefix) {
+  return endsWith(prefix, ".rfm") ? prefix : prefix + ".rfm";
+}
+
+bool writeMapperState(const std::string& prefix, const rfm::Mapper& mapper, std::string* error) {
+  const std::string path = stateFilePath(prefix);
+  errno = 0;
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) return fail(error, "cannot write " + path + ": " + reason());
+  mapper.save(out);
+  out.flush();
+  if (!out) return fail(error, "cannot write " + path + ": " + reason());
+  return true;
+}
+
+bool saveMapFiles(const std::string& prefix, const rfm::Mapper& mapper, const std::string& frame,
+                  std::string* error) {
+  const rfm::GlobalMap2D& map = mapper.map();
+  const nav_msgs::OccupancyGrid grid =
+      toOccupancyGrid(map, map.bounds(), mapper.options().grid.resolution, frame, ros::Time(0, 0));
+  return writeMapServerFiles(prefix, grid, error) && writeMapperState(prefix, mapper, error);
+}
+
+bool loadMapperState(const std::string& path, rfm::Mapper& mapper, std::string* error) {
+  const std::string file = stateFilePath(path);
+  errno = 0;
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return fail(error, "cannot read " + file + ": " + reason());
+  if (!mapper.load(in)) {
+    return fail(error, file + " is not a compatible saved state (different options or version?)");
+  }
+  return true;
+}
+
+}  // namespace reflectance_field_map
