@@ -1,0 +1,86 @@
+// Confusion matrix arithmetic, JSON round trip and the aggregated report.
+#include <gtest/gtest.h>
+
+#include "reflectance_field_map/sim/evaluation.h"
+
+namespace rfm::sim {
+namespace {
+
+// Truth: 0 no_return, 1 diffuse, 2 glass, 3 metal, 4 motion, 5 reflection.
+// Labels: 0 no_return, 1 kept, 2 motion, 3 reflection.
+TEST(ConfusionMatrixTest, CountsKeptAndRemovedPerTrueClass) {
+  ConfusionMatrix matrix;
+  matrix.addScan({1, 1, 1, 1, 2, 2, 3, 4, 4, 5, 5, 5, 0, 0},
+                 {1, 1, 1, 0, 1, 3, 1, 2, 1, 3, 2, 1, 1, 0});
+  EXPECT_EQ(matrix.scans(), 1u);
+  EXPECT_EQ(matrix.excludedNoReturnTruth(), 2u);
+  EXPECT_EQ(matrix.scoredRays(), 12u);
+
+  const ClassCounts& diffuse = matrix.row(0);
+  EXPECT_EQ(diffuse.total, 4u);
+  EXPECT_EQ(diffuse.kept, 3u);
+  EXPECT_EQ(diffuse.removed_no_return, 1u);  // a true echo the mapper dropped
+  EXPECT_DOUBLE_EQ(diffuse.keptPercent(), 75.0);
+  EXPECT_DOUBLE_EQ(diffuse.removedPercent(), 25.0);
+
+  EXPECT_EQ(matrix.row(1).kept, 1u);
+  EXPECT_EQ(matrix.row(1).removed_reflection, 1u);
+  EXPECT_EQ(matrix.row(2).total, 1u);
+  EXPECT_DOUBLE_EQ(matrix.row(2).keptPercent(), 100.0);
+  EXPECT_EQ(matrix.row(3).removed_motion, 1u);
+  EXPECT_DOUBLE_EQ(matrix.row(3).removedPercent(), 50.0);
+  const ClassCounts& reflection = matrix.row(4);
+  EXPECT_EQ(reflection.total, 3u);
+  EXPECT_EQ(reflection.removed(), 2u);  // as reflection and as motion both count as removed
+  EXPECT_NEAR(reflection.removedPercent(), 200.0 / 3.0, 1e-9);
+}
+
+TEST(ConfusionMatrixTest, RejectsSizeMismatchAndSkipsInvalidValues) {
+  ConfusionMatrix matrix;
+  EXPECT_THROW(matrix.addScan({1, 2}, {1}), std::invalid_argument);
+  matrix.addScan({1, 9, 2}, {1, 1, 7});
+  EXPECT_EQ(matrix.invalidBeams(), 2u);
+  EXPECT_EQ(matrix.scoredRays(), 1u);
+}
+
+TEST(ConfusionMatrixTest, MergeAddsAndJsonRoundTrips) {
+  ConfusionMatrix a, b;
+  a.addScan({1, 2, 5}, {1, 1, 3});
+  b.addScan({1, 4, 5, 0}, {3, 2, 1, 1});
+  a.merge(b);
+  EXPECT_EQ(a.scans(), 2u);
+  EXPECT_EQ(a.row(0).total, 2u);
+  EXPECT_EQ(a.row(0).kept, 1u);
+  EXPECT_EQ(a.row(4).total, 2u);
+  EXPECT_EQ(a.row(4).kept, 1u);
+  const ConfusionMatrix parsed = ConfusionMatrix::fromJson(a.toJson());
+  EXPECT_TRUE(parsed == a);
+  EXPECT_THROW(ConfusionMatrix::fromJson("{\"scans\": 1}"), std::runtime_error);
+  EXPECT_THROW(ConfusionMatrix::fromJson("not json at all: ["), std::runtime_error);
+}
+
+TEST(ConfusionMatrixTest, MarkdownTableShowsPercentages) {
+  ConfusionMatrix matrix;
+  matrix.addScan({2, 2, 2, 2}, {1, 1, 1, 3});
+  const std::string table = matrix.toMarkdownTable();
+  EXPECT_NE(table.find("| glass | 4 | 75.0 | 25.0 | 0 | 1 | 0 |"), std::string::npos) << table;
+}
+
+TEST(EvaluationReportTest, AggregatesRayWeightedAcrossScenes) {
+  ConfusionMatrix small, large;
+  small.addScan({2, 2}, {3, 3});           // glass 0 % kept on 2 rays
+  large.addScan({2, 2, 2, 2, 2, 2, 2, 2},  // glass 100 % kept on 8 rays
+                {1, 1, 1, 1, 1, 1, 1, 1});
+  const std::vector<EvaluationEntry> entries = {
+      {"full", "scene_a", small}, {"full", "scene_b", large}, {"baseline", "scene_a", small}};
+  const std::string report = buildEvaluationReport(entries, "Reproduce: `run it`\n");
+  EXPECT_NE(report.find("Reproduce: `run it`"), std::string::npos);
+  // Ray-weighted: 8 of 10 glass rays kept = 80.0 %, not the 50 % mean of the per-scene rates.
+  EXPECT_NE(report.find("| full | 0.0 | 80.0 |"), std::string::npos) << report;
+  EXPECT_NE(report.find("| baseline | 0.0 | 0.0 |"), std::string::npos) << report;
+  EXPECT_LT(report.find("### full"), report.find("### baseline"));  // first-seen order
+  EXPECT_NE(report.find("| scene_b | full |"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace rfm::sim

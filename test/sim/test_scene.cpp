@@ -1,0 +1,148 @@
+// Scene files: every shipped scene loads and is sensible; bad files are rejected naming the field.
+#include <gtest/gtest.h>
+
+#include <dirent.h>
+
+#include <algorithm>
+
+#include "reflectance_field_map/sim/scene.h"
+
+namespace rfm::sim {
+namespace {
+
+std::vector<std::string> shippedScenes() {
+  std::vector<std::string> names;
+  if (DIR* directory = opendir(RFM_SCENE_DIR)) {
+    while (const dirent* entry = readdir(directory)) {
+      const std::string name = entry->d_name;
+      if (name.size() > 5 && name.substr(name.size() - 5) == ".yaml") names.push_back(name);
+    }
+    closedir(directory);
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+TEST(SceneFilesTest, AllRequiredScenesAreShipped) {
+  const std::vector<std::string> names = shippedScenes();
+  for (const char* required :
+       {"atrium.yaml", "glass_wall.yaml", "curved_glass.yaml", "corridor_pedestrian.yaml",
+        "mirror_metal.yaml", "crowded_lobby.yaml", "parallel_panes.yaml", "office.yaml"}) {
+    EXPECT_NE(std::find(names.begin(), names.end(), required), names.end()) << required;
+  }
+}
+
+TEST(SceneFilesTest, EveryShippedSceneLoadsAndValidates) {
+  for (const std::string& file : shippedScenes()) {
+    SCOPED_TRACE(file);
+    Scene scene;
+    ASSERT_NO_THROW(scene = loadScene(std::string(RFM_SCENE_DIR) + "/" + file));
+    EXPECT_EQ(scene.name + ".yaml", file);
+    EXPECT_GE(scene.duration, 40.0);
+    EXPECT_LE(scene.duration, 120.0);
+    EXPECT_GT(scene.world.surfaceCount(), 0u);
+    ASSERT_EQ(scene.lidars.size(), 2u);
+    EXPECT_NO_THROW(scene.materials.validate());
+    // The robot stays inside the mapped area, and the area is a few tens of metres across.
+    const auto [low, high] = scene.world.bounds();
+    EXPECT_LT((high - low).maxCoeff(), 60.0);
+    for (const Eigen::Vector2d& waypoint : scene.robot.waypoints) {
+      EXPECT_TRUE((waypoint.array() > low.array()).all() && (waypoint.array() < high.array()).all())
+          << waypoint.transpose();
+    }
+    for (const PersonSpec& person : scene.people) {
+      EXPECT_GE(person.speed, 0.8) << person.name;
+      EXPECT_LE(person.speed, 1.5) << person.name;
+      EXPECT_GE(person.radius, 0.2);
+      EXPECT_LE(person.radius, 0.3);
+    }
+    EXPECT_GE(scene.robot.speed, 0.5);
+    EXPECT_LE(scene.robot.speed, 1.0);
+  }
+}
+
+TEST(SceneFilesTest, OnlyTheControlSceneIsFreeOfShinySurfaces) {
+  for (const std::string& file : shippedScenes()) {
+    const Scene scene = loadScene(std::string(RFM_SCENE_DIR) + "/" + file);
+    bool shiny = false;
+    for (const auto& segment : scene.world.segments())
+      shiny |= segment.material != Material::kDiffuse;
+    for (const auto& arc : scene.world.arcs())
+      shiny |= arc.material != Material::kDiffuse;
+    EXPECT_EQ(shiny, file != "office.yaml") << file;
+  }
+}
+
+const char* kValidScene = R"(
+name: tiny
+duration: 10
+walls:
+  - {type: segment, material: glass, points: [[0, 0], [4, 0]], frame: 0.1, mullion_spacing: 2}
+  - {type: arc, material: diffuse, center: [0, 5], radius: 1, start_deg: 0, end_deg: 360}
+people:
+  - {speed: 1.0, start_time: 1, end_time: 8, waypoints: [[0, 1], [2, 1, 3.0]]}
+robot:
+  speed: 0.6
+  waypoints: [[-1, -1], [3, -1]]
+sensors: {rate_hz: 20, range_noise_sigma: 0.01}
+)";
+
+TEST(SceneParseTest, ParsesAllSections) {
+  const Scene scene = parseScene(kValidScene, "tiny.yaml");
+  EXPECT_EQ(scene.name, "tiny");
+  EXPECT_DOUBLE_EQ(scene.duration, 10.0);
+  // Framed glass segment: frame, pane, mullion, pane, frame.
+  EXPECT_EQ(scene.world.segmentCount(), 5u);
+  EXPECT_EQ(scene.world.arcCount(), 1u);
+  ASSERT_EQ(scene.people.size(), 1u);
+  EXPECT_DOUBLE_EQ(scene.people[0].waypoints[1].pause, 3.0);
+  EXPECT_DOUBLE_EQ(scene.robot.speed, 0.6);
+  EXPECT_DOUBLE_EQ(scene.lidars[0].rate_hz, 20.0);
+  EXPECT_DOUBLE_EQ(scene.lidars[1].time_offset, 0.025);  // half a period at 20 Hz
+}
+
+// Replaces the first occurrence of `from` in the valid scene and returns the error's field.
+std::string errorField(const std::string& from, const std::string& to) {
+  std::string text = kValidScene;
+  const std::size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  text.replace(at, from.size(), to);
+  try {
+    parseScene(text, "bad.yaml");
+  } catch (const SceneError& error) {
+    EXPECT_NE(std::string(error.what()).find("bad.yaml"), std::string::npos);
+    EXPECT_NE(std::string(error.what()).find(error.field()), std::string::npos);
+    return error.field();
+  }
+  ADD_FAILURE() << "no error for " << to;
+  return "";
+}
+
+TEST(SceneParseTest, ErrorsNameTheBadField) {
+  EXPECT_EQ(errorField("material: glass", "material: glas"), "walls[0].material");
+  EXPECT_EQ(errorField("type: arc", "type: circle"), "walls[1].type");
+  EXPECT_EQ(errorField("radius: 1", "radius: -1"), "walls[1].radius");
+  EXPECT_EQ(errorField("duration: 10", "duration: ten"), "duration");
+  EXPECT_EQ(errorField("duration: 10", "span: 10"), "span");  // unknown key
+  EXPECT_EQ(errorField("[2, 1, 3.0]", "[2, 1, 3.0, 4]"), "people[0].waypoints[1]");
+  EXPECT_EQ(errorField("end_time: 8", "end_time: 0.5"), "people[0].end_time");
+  EXPECT_EQ(errorField("speed: 0.6", "sped: 0.6"), "robot.sped");
+  EXPECT_EQ(errorField("speed: 0.6", "speed: 9"), "robot.speed");
+  EXPECT_EQ(errorField("waypoints: [[-1, -1], [3, -1]]", "waypoints: []"), "robot.waypoints");
+  EXPECT_EQ(errorField("rate_hz: 20", "rate_hz: x"), "sensors.rate_hz");
+  EXPECT_EQ(errorField("points: [[0, 0], [4, 0]]", "points: [[0, 0]]"), "walls[0].points");
+  EXPECT_EQ(errorField("name: tiny\n", ""), "name");
+}
+
+TEST(SceneParseTest, SyntaxErrorsAndMissingFilesAreReported) {
+  EXPECT_THROW(parseScene("walls: [unclosed", "broken.yaml"), SceneError);
+  try {
+    loadScene("/nonexistent/scene.yaml");
+    FAIL();
+  } catch (const SceneError& error) {
+    EXPECT_NE(std::string(error.what()).find("/nonexistent/scene.yaml"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace rfm::sim
