@@ -142,8 +142,11 @@ int runOffline(const OfflineArguments& args, std::ostream& log) {
 
     if (args.theta_view) {
       if (!theta_slice) {
-        log << "rfm_offline: warning: the batch did not expose its field, theta_view.png not "
-               "written\n";
+        log << "rfm_offline: warning: theta_view.png not written: "
+            << (mode.mode == BatchMode::kPlainGrid
+                    ? "the plain grid (--baseline) has no reflectance field"
+                    : "the batch did not expose its field")
+            << "\n";
       } else {
         // Reflective bins take the colour of the cell's final class.
         for (int c = 0; c < theta_slice->columns; ++c) {

@@ -1,0 +1,370 @@
+// rfm_offline end to end: bags written here with rosbag (two lidars + TF, a stationary lidar
+// without TF), the real stationary recording of shared/data, and the error paths.
+
+#include "reflectance_field_map/RayLabels.h"
+#include "reflectance_field_map/core/options.h"
+#include "reflectance_field_map/render/png_io.h"
+
+#include <geometry_msgs/TransformStamped.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/LaserScan.h>
+#include <tf2_msgs/TFMessage.h>
+#include <yaml-cpp/yaml.h>
+
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <sstream>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kBeams = 181;
+constexpr int kScansPerTopic = 20;
+const double kStart = 1000.0;
+
+struct RunResult {
+  int code = -1;
+  std::string output;
+};
+
+RunResult runOffline(const std::string& arguments) {
+  const std::string command = std::string(RFM_OFFLINE_EXE) + " " + arguments + " 2>&1";
+  RunResult result;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return result;
+  char buffer[4096];
+  size_t n;
+  while ((n = fread(buffer, 1, sizeof(buffer), pipe)) > 0)
+    result.output.append(buffer, n);
+  const int status = pclose(pipe);
+  result.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+// Range from `origin` along `angle` to the walls of the square room [-3, 3]^2.
+float roomRange(double ox, double oy, double angle) {
+  const double dx = std::cos(angle), dy = std::sin(angle);
+  double t = std::numeric_limits<double>::infinity();
+  if (dx > 1e-9) t = std::min(t, (3.0 - ox) / dx);
+  if (dx < -1e-9) t = std::min(t, (-3.0 - ox) / dx);
+  if (dy > 1e-9) t = std::min(t, (3.0 - oy) / dy);
+  if (dy < -1e-9) t = std::min(t, (-3.0 - oy) / dy);
+  return static_cast<float>(t);
+}
+
+geometry_msgs::TransformStamped transform(const std::string& parent, const std::string& child,
+                                          double t, double x, double y, double yaw) {
+  geometry_msgs::TransformStamped tf;
+  tf.header.stamp = ros::Time(t);
+  tf.header.frame_id = parent;
+  tf.child_frame_id = child;
+  tf.transform.translation.x = x;
+  tf.transform.translation.y = y;
+  tf.transform.rotation.z = std::sin(yaw / 2);
+  tf.transform.rotation.w = std::cos(yaw / 2);
+  return tf;
+}
+
+double robotX(double t) {
+  return -0.5 + 0.5 * (t - kStart);
+}
+
+// Two lidars on a robot driving along x in a square room. The rear lidar looks backwards and
+// reports its beams clockwise (negative angle_increment). Beam 0 of every scan is NaN.
+void writeRobotBag(const std::string& path, bool with_tf) {
+  rosbag::Bag bag(path, rosbag::bagmode::Write);
+  if (with_tf) {
+    tf2_msgs::TFMessage statics;
+    statics.transforms.push_back(transform("base_link", "laser_front", kStart, 0.2, 0.0, 0.0));
+    statics.transforms.push_back(transform("base_link", "laser_rear", kStart, -0.2, 0.0, M_PI));
+    bag.write("/tf_static", ros::Time(kStart - 0.3), statics);
+    for (double t = kStart - 0.2; t < kStart + 2.25; t += 0.02) {
+      tf2_msgs::TFMessage odom;
+      odom.transforms.push_back(transform("odom", "base_link", t, robotX(t), 0.0, 0.0));
+      bag.write("/tf", ros::Time(t), odom);
+    }
+  }
+  uint32_t seq = 0;
+  for (int i = 0; i < kScansPerTopic; ++i) {
+    for (int rear = 0; rear < 2; ++rear) {
+      const double t = kStart + 0.1 * i + 0.05 * rear;
+      sensor_msgs::LaserScan scan;
+      scan.header.seq = seq++;
+      scan.header.stamp = ros::Time(t);
+      scan.header.frame_id = rear ? "laser_rear" : "laser_front";
+      scan.angle_increment = static_cast<float>(rear ? -M_PI / 180 : M_PI / 180);
+      scan.angle_min = static_cast<float>(rear ? M_PI / 2 : -M_PI / 2);
+      scan.angle_max = static_cast<float>(rear ? -M_PI / 2 : M_PI / 2);
+      scan.range_min = 0.05f;
+      scan.range_max = 10.0f;
+      const double lx = robotX(t) + (rear ? -0.2 : 0.2);
+      const double heading = rear ? M_PI : 0.0;
+      for (int b = 0; b < kBeams; ++b) {
+        const double angle = heading + scan.angle_min + b * scan.angle_increment;
+        scan.ranges.push_back(b == 0 ? std::numeric_limits<float>::quiet_NaN()
+                                     : roomRange(lx, 0.0, angle));
+      }
+      bag.write(rear ? "/scan_rear" : "/scan_front", ros::Time(t + 0.001), scan);
+    }
+  }
+  bag.close();
+}
+
+class OfflineEndToEnd : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("rfm_offline_test_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    if (!HasFailure()) fs::remove_all(dir_);
+  }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  fs::path dir_;
+};
+
+void expectOutputs(const std::string& out) {
+  for (const char* name : {"map.yaml", "map.pgm", "layers.png", "labels.bag", "summary.json"}) {
+    EXPECT_TRUE(fs::is_regular_file(fs::path(out) / name)) << name;
+    EXPECT_GT(fs::file_size(fs::path(out) / name), 0u) << name;
+  }
+}
+
+TEST_F(OfflineEndToEnd, TwoLidarsWithTf) {
+  writeRobotBag(path("in.bag"), true);
+  const std::string out = path("out");
+  const RunResult run = runOffline("--bag " + path("in.bag") + " --out " + out);
+  ASSERT_EQ(run.code, 0) << run.output;
+  expectOutputs(out);
+
+  // map_server files.
+  const YAML::Node map_yaml = YAML::LoadFile(out + "/map.yaml");
+  EXPECT_EQ(map_yaml["image"].as<std::string>(), "map.pgm");
+  EXPECT_DOUBLE_EQ(map_yaml["resolution"].as<double>(), 0.05);
+  ASSERT_EQ(map_yaml["origin"].size(), 3u);
+  EXPECT_EQ(map_yaml["negate"].as<int>(), 0);
+  EXPECT_DOUBLE_EQ(map_yaml["occupied_thresh"].as<double>(), 0.65);
+  EXPECT_DOUBLE_EQ(map_yaml["free_thresh"].as<double>(), 0.196);
+  std::ifstream pgm(out + "/map.pgm", std::ios::binary);
+  std::string magic, comment;
+  pgm >> magic;
+  EXPECT_EQ(magic, "P5");
+  pgm.ignore(1);
+  std::getline(pgm, comment);
+  int width = 0, height = 0, max_value = 0;
+  pgm >> width >> height >> max_value;
+  pgm.ignore(1);
+  EXPECT_EQ(max_value, 255);
+  EXPECT_GT(width, 100);  // the 6 m room at 5 cm
+  EXPECT_GT(height, 100);
+  std::vector<unsigned char> pixels(static_cast<size_t>(width) * static_cast<size_t>(height));
+  pgm.read(reinterpret_cast<char*>(pixels.data()), static_cast<std::streamsize>(pixels.size()));
+  ASSERT_TRUE(pgm.good());
+  std::map<int, int> values;
+  for (unsigned char p : pixels)
+    ++values[p];
+  for (const auto& [value, count] : values) {
+    EXPECT_TRUE(value == 0 || value == 205 || value == 254) << value << " x " << count;
+  }
+  EXPECT_GT(values[254], 0);  // the room is free
+
+  const rfm::render::RgbImage layers = rfm::render::readPng(out + "/layers.png");
+  EXPECT_EQ(layers.width() % width, 0);
+  EXPECT_EQ(layers.width() / width, layers.height() / height);
+
+  // One RayLabels per scan, header copied, a label per beam in the bag's beam order.
+  rosbag::Bag labels_bag(out + "/labels.bag");
+  rosbag::View view(labels_bag);
+  std::map<uint32_t, int> per_seq;
+  int messages = 0;
+  for (const rosbag::MessageInstance& m : view) {
+    EXPECT_EQ(m.getTopic(), "/rfm/ray_labels");
+    const auto labels = m.instantiate<reflectance_field_map::RayLabels>();
+    ASSERT_TRUE(labels);
+    ++messages;
+    ++per_seq[labels->header.seq];
+    const uint32_t seq = labels->header.seq;
+    const bool rear = seq % 2 == 1;
+    EXPECT_EQ(labels->scan_topic, rear ? "/scan_rear" : "/scan_front");
+    EXPECT_EQ(labels->header.frame_id, rear ? "laser_rear" : "laser_front");
+    EXPECT_NEAR(labels->header.stamp.toSec(), kStart + 0.1 * (seq / 2) + 0.05 * rear, 1e-6);
+    ASSERT_EQ(labels->labels.size(), static_cast<size_t>(kBeams));
+    EXPECT_EQ(labels->labels[0], reflectance_field_map::RayLabels::NO_RETURN);  // the NaN beam
+    for (size_t b = 1; b < labels->labels.size(); ++b) {
+      EXPECT_LE(labels->labels[b], reflectance_field_map::RayLabels::REFLECTION);
+    }
+  }
+  EXPECT_EQ(messages, 2 * kScansPerTopic);
+  EXPECT_EQ(per_seq.size(), static_cast<size_t>(2 * kScansPerTopic));
+
+  // summary.json (JSON is YAML).
+  const YAML::Node summary = YAML::LoadFile(out + "/summary.json");
+  EXPECT_EQ(summary["mode"].as<std::string>(), "full");
+  EXPECT_EQ(summary["scans"]["total"].as<int>(), 2 * kScansPerTopic);
+  EXPECT_EQ(summary["scans"]["per_topic"]["/scan_front"].as<int>(), kScansPerTopic);
+  EXPECT_EQ(summary["rays"].as<int>(), 2 * kScansPerTopic * kBeams);
+  int labelled = 0;
+  for (const char* name : {"no_return", "kept", "motion", "reflection"}) {
+    labelled += summary["labels"][name].as<int>();
+  }
+  EXPECT_EQ(labelled, 2 * kScansPerTopic * kBeams);
+  EXPECT_GE(summary["labels"]["no_return"].as<int>(), 2 * kScansPerTopic);
+  EXPECT_GT(summary["timing"]["real_time_factor"].as<double>(), 0.0);
+  EXPECT_GT(summary["timing"]["wall_s"].as<double>(), 0.0);
+  EXPECT_NEAR(summary["timing"]["recording_s"].as<double>(), 1.95, 1e-6);
+  for (const char* stage : {"read_bag", "process", "write_labels"}) {
+    EXPECT_TRUE(summary["timing"]["stages_s"][stage]) << stage;
+  }
+  EXPECT_EQ(summary["map"]["width"].as<int>(), width);
+  for (const rfm::OptionField& field : rfm::optionFields()) {
+    EXPECT_TRUE(summary["parameters"][field.name]) << field.name;
+  }
+}
+
+TEST_F(OfflineEndToEnd, ModesAndThetaView) {
+  writeRobotBag(path("in.bag"), true);
+  const std::string params = path("params.yaml");
+  std::ofstream(params) << "rfm:\n  resolution: 0.1\n  theta_bins: 90\n";
+  struct Case {
+    std::string flags;
+    std::string mode;
+  };
+  for (const Case& c : {Case{"--baseline", "plain_grid"},
+                        Case{"--no-motion-removal --no-reflection-removal", "basic_rfm"},
+                        Case{"--no-reflection-removal", "motion_removal"},
+                        Case{"--no-motion-removal", "reflection_removal"}}) {
+    const std::string out = path("out_" + c.mode);
+    const RunResult run = runOffline("--bag " + path("in.bag") + " --out " + out + " --params " +
+                                     params + " " + c.flags + " --theta-view=-2.9,1.0,-2.9,-1.0");
+    ASSERT_EQ(run.code, 0) << c.flags << "\n" << run.output;
+    expectOutputs(out);
+    const YAML::Node summary = YAML::LoadFile(out + "/summary.json");
+    EXPECT_EQ(summary["mode"].as<std::string>(), c.mode);
+    EXPECT_DOUBLE_EQ(summary["parameters"]["resolution"].as<double>(), 0.1);
+    EXPECT_EQ(summary["parameters"]["theta_bins"].as<int>(), 90);
+    if (c.mode == "plain_grid") {  // no field to look at
+      EXPECT_FALSE(fs::exists(out + "/theta_view.png"));
+      EXPECT_NE(run.output.find("no reflectance field"), std::string::npos) << run.output;
+      continue;
+    }
+    const rfm::render::RgbImage theta = rfm::render::readPng(out + "/theta_view.png");
+    EXPECT_GT(theta.width(), 0);
+    EXPECT_EQ(theta.height() % 90, 0);  // one row (or a few pixels) per bin
+  }
+}
+
+TEST_F(OfflineEndToEnd, StationaryLidarWithoutTf) {
+  writeRobotBag(path("in.bag"), false);
+  // Default fixed frame: the bag has no TF, the message says what to pass.
+  RunResult run = runOffline("--bag " + path("in.bag") + " --out " + path("out1"));
+  EXPECT_EQ(run.code, 1) << run.output;
+  EXPECT_NE(run.output.find("no /tf"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("--fixed-frame laser_"), std::string::npos) << run.output;
+
+  run = runOffline("--bag " + path("in.bag") + " --out " + path("out2") +
+                   " --scan-topics /scan_front --fixed-frame laser_front");
+  ASSERT_EQ(run.code, 0) << run.output;
+  expectOutputs(path("out2"));
+  rosbag::Bag labels_bag(path("out2/labels.bag"));
+  EXPECT_EQ(rosbag::View(labels_bag).size(), static_cast<uint32_t>(kScansPerTopic));
+}
+
+TEST_F(OfflineEndToEnd, MissingTransformsAreCounted) {
+  writeRobotBag(path("in.bag"), true);
+  const RunResult run =
+      runOffline("--bag " + path("in.bag") + " --out " + path("out") + " --base-frame nowhere");
+  EXPECT_EQ(run.code, 1) << run.output;
+  EXPECT_NE(run.output.find("40 of 40 scans"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("/scan_front: 20 of 20"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("--base-frame"), std::string::npos) << run.output;
+}
+
+TEST_F(OfflineEndToEnd, ClearErrors) {
+  writeRobotBag(path("in.bag"), true);
+  const std::string out = " --out " + path("out");
+
+  RunResult run = runOffline("--bag " + path("in.bag") + out + " --scan-topics /nope,/nada");
+  EXPECT_EQ(run.code, 1);
+  EXPECT_NE(run.output.find("none of the scan topics /nope, /nada"), std::string::npos)
+      << run.output;
+  EXPECT_NE(run.output.find("/scan_front"), std::string::npos) << run.output;  // what exists
+
+  run = runOffline("--bag " + path("in.bag") + out + " --scan-topics /tf");
+  EXPECT_EQ(run.code, 1);
+  EXPECT_NE(run.output.find("not a sensor_msgs/LaserScan"), std::string::npos) << run.output;
+
+  run = runOffline("--bag " + path("missing.bag") + out);
+  EXPECT_EQ(run.code, 1);
+  EXPECT_NE(run.output.find("cannot read bag"), std::string::npos) << run.output;
+
+  std::ofstream(path("garbage.bag")) << "this is not a bag\n";
+  run = runOffline("--bag " + path("garbage.bag") + out);
+  EXPECT_EQ(run.code, 1);
+  EXPECT_NE(run.output.find("cannot read bag"), std::string::npos) << run.output;
+
+  std::ofstream(path("bad.yaml")) << "theta_bins: 3\n";
+  run = runOffline("--bag " + path("in.bag") + out + " --params " + path("bad.yaml"));
+  EXPECT_EQ(run.code, 2);
+  EXPECT_NE(run.output.find("theta_bins"), std::string::npos) << run.output;
+
+  std::ofstream(path("bad2.yaml")) << "penetration_tolerance: far\n";
+  run = runOffline("--bag " + path("in.bag") + out + " --params " + path("bad2.yaml"));
+  EXPECT_EQ(run.code, 2);
+  EXPECT_NE(run.output.find("penetration_tolerance"), std::string::npos) << run.output;
+
+  run = runOffline("--bag " + path("in.bag") + out + " --params " + path("none.yaml"));
+  EXPECT_EQ(run.code, 2);
+  EXPECT_NE(run.output.find("none.yaml"), std::string::npos) << run.output;
+
+  run = runOffline("--bag " + path("in.bag") + " --fixed-frame");
+  EXPECT_EQ(run.code, 2);
+  EXPECT_NE(run.output.find("--fixed-frame needs a value"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("Usage"), std::string::npos) << run.output;
+
+  run = runOffline("--help");
+  EXPECT_EQ(run.code, 0);
+  EXPECT_NE(run.output.find("--scan-topics"), std::string::npos);
+
+  EXPECT_FALSE(fs::exists(path("out/labels.bag")));
+}
+
+TEST_F(OfflineEndToEnd, RealStationaryRecording) {
+  const std::string bag = RFM_SHARED_DATA_DIR "/real/demo_stationary_simple_environment.bag";
+  if (!fs::is_regular_file(bag)) GTEST_SKIP() << bag << " is not there";
+  const std::string out = path("out");
+  const RunResult run =
+      runOffline("--bag " + bag + " --out " + out + " --fixed-frame laser --scan-topics /scan");
+  ASSERT_EQ(run.code, 0) << run.output;
+  expectOutputs(out);
+  rosbag::Bag labels_bag(out + "/labels.bag");
+  rosbag::View view(labels_bag);
+  EXPECT_EQ(view.size(), 1265u);
+  for (const rosbag::MessageInstance& m : view) {
+    const auto labels = m.instantiate<reflectance_field_map::RayLabels>();
+    ASSERT_TRUE(labels);
+    ASSERT_EQ(labels->labels.size(), 512u);
+    EXPECT_EQ(labels->header.frame_id, "laser");
+    EXPECT_EQ(labels->scan_topic, "/scan");
+    break;
+  }
+  const YAML::Node summary = YAML::LoadFile(out + "/summary.json");
+  EXPECT_EQ(summary["scans"]["total"].as<int>(), 1265);
+  EXPECT_EQ(summary["rays"].as<int>(), 1265 * 512);
+}
+
+}  // namespace
