@@ -20,6 +20,12 @@ std::string percent(double value) {
   return out.str();
 }
 
+// Percentage cell of a report table: "-" for a class without rays.
+std::string rate(const ClassCounts& counts, bool kept) {
+  if (counts.total == 0) return "-";
+  return percent(kept ? counts.keptPercent() : counts.removedPercent());
+}
+
 std::uint64_t readCount(const YAML::Node& node, const std::string& key) {
   if (!node[key]) throw std::runtime_error("evaluation JSON: missing '" + key + "'");
   return node[key].as<std::uint64_t>();
@@ -106,9 +112,9 @@ std::string ConfusionMatrix::toMarkdownTable() const {
       << "|---|---:|---:|---:|---:|---:|---:|\n";
   for (std::size_t i = 0; i < rows_.size(); ++i) {
     const ClassCounts& c = rows_[i];
-    out << "| " << kScoredClassNames[i] << " | " << c.total << " | " << percent(c.keptPercent())
-        << " | " << percent(c.removedPercent()) << " | " << c.removed_motion << " | "
-        << c.removed_reflection << " | " << c.removed_no_return << " |\n";
+    out << "| " << kScoredClassNames[i] << " | " << c.total << " | " << rate(c, true) << " | "
+        << rate(c, false) << " | " << c.removed_motion << " | " << c.removed_reflection << " | "
+        << c.removed_no_return << " |\n";
   }
   return out.str();
 }
@@ -194,9 +200,8 @@ std::string buildEvaluationReport(const std::vector<EvaluationEntry>& entries,
       << "|---|---:|---:|---:|---:|---:|---:|\n";
   for (const std::string& config : configs) {
     const ConfusionMatrix& m = totals[config];
-    out << "| " << config << " | " << percent(m.row(0).keptPercent()) << " | "
-        << percent(m.row(1).keptPercent()) << " | " << percent(m.row(2).keptPercent()) << " | "
-        << percent(m.row(3).removedPercent()) << " | " << percent(m.row(4).removedPercent())
+    out << "| " << config << " | " << rate(m.row(0), true) << " | " << rate(m.row(1), true) << " | "
+        << rate(m.row(2), true) << " | " << rate(m.row(3), false) << " | " << rate(m.row(4), false)
         << " | " << m.scoredRays() << " |\n";
   }
 
@@ -220,12 +225,9 @@ std::string buildEvaluationReport(const std::vector<EvaluationEntry>& entries,
       for (const EvaluationEntry& entry : entries) {
         if (entry.scene != scene || entry.config != config) continue;
         const ConfusionMatrix& m = entry.matrix;
-        auto cell = [](const ClassCounts& c, bool kept) {
-          return c.total ? percent(kept ? c.keptPercent() : c.removedPercent()) : std::string("-");
-        };
-        out << "| " << scene << " | " << config << " | " << cell(m.row(0), true) << " | "
-            << cell(m.row(1), true) << " | " << cell(m.row(2), true) << " | "
-            << cell(m.row(3), false) << " | " << cell(m.row(4), false) << " | " << m.row(0).total
+        out << "| " << scene << " | " << config << " | " << rate(m.row(0), true) << " | "
+            << rate(m.row(1), true) << " | " << rate(m.row(2), true) << " | "
+            << rate(m.row(3), false) << " | " << rate(m.row(4), false) << " | " << m.row(0).total
             << "/" << m.row(1).total << "/" << m.row(2).total << "/" << m.row(3).total << "/"
             << m.row(4).total << " |\n";
       }
