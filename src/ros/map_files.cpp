@@ -6,6 +6,7 @@
 #include <cstring>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 namespace reflectance_field_map {
@@ -73,10 +74,12 @@ bool writeMapServerFiles(const std::string& prefix, const nav_msgs::OccupancyGri
     std::ofstream yaml(yaml_path, std::ios::trunc);
     if (!yaml) return fail(error, "cannot write " + yaml_path + ": " + reason());
     const double yaw = yawFromQuaternion(grid.info.origin.orientation);
-    yaml << std::setprecision(10) << "image: " << baseName(pgm_path) << "\n"
-         << "resolution: " << grid.info.resolution << "\n"
-         << "origin: [" << grid.info.origin.position.x << ", " << grid.info.origin.position.y
-         << ", " << yaw << "]\n"
+    // resolution is a float32 in the message: 6 significant digits print 0.05 as 0.05.
+    yaml << "image: " << baseName(pgm_path) << "\n"
+         << "resolution: " << std::setprecision(std::numeric_limits<float>::digits10)
+         << grid.info.resolution << "\n"
+         << std::setprecision(10) << "origin: [" << grid.info.origin.position.x << ", "
+         << grid.info.origin.position.y << ", " << yaw << "]\n"
          << "negate: 0\n"
          << "occupied_thresh: 0.65\n"
          << "free_thresh: 0.196\n";

@@ -109,9 +109,12 @@ void readTopics(const ros::NodeHandle& nh, const std::string& name, std::vector<
 
 const std::vector<std::string>& nodeParameterNames() {
   static const std::vector<std::string> names = {
-      "scan_topics",         "fixed_frame",        "base_frame",         "map_publish_rate",
-      "marker_publish_rate", "stats_publish_rate", "tf_tolerance",       "tf_queue_size",
-      "min_scan_rate",       "max_scan_rate",      "time_jump_threshold"};
+      "scan_topics",         "fixed_frame",
+      "base_frame",          "map_publish_rate",
+      "marker_publish_rate", "stats_publish_rate",
+      "tf_tolerance",        "tf_queue_size",
+      "min_scan_rate",       "max_scan_rate",
+      "time_jump_threshold", "diagnostic_period"};  // diagnostic_period: read by diagnostic_updater
   return names;
 }
 
