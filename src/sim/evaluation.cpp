@@ -59,6 +59,7 @@ void ConfusionMatrix::addScan(const std::vector<std::uint8_t>& truth_classes,
     const std::uint8_t truth = truth_classes[i];
     if (truth == kTruthNoReturn) {
       ++excluded_no_return_truth_;
+      if (labels[i] != static_cast<std::uint8_t>(RayLabel::kNoReturn)) ++no_return_mislabelled_;
       continue;
     }
     if (truth > kTruthMaxClass || labels[i] > static_cast<std::uint8_t>(RayLabel::kReflection)) {
@@ -89,6 +90,7 @@ void ConfusionMatrix::merge(const ConfusionMatrix& other) {
     rows_[i] += other.rows_[i];
   scans_ += other.scans_;
   excluded_no_return_truth_ += other.excluded_no_return_truth_;
+  no_return_mislabelled_ += other.no_return_mislabelled_;
   invalid_beams_ += other.invalid_beams_;
 }
 
@@ -102,6 +104,7 @@ std::uint64_t ConfusionMatrix::scoredRays() const {
 bool ConfusionMatrix::operator==(const ConfusionMatrix& other) const {
   return rows_ == other.rows_ && scans_ == other.scans_ &&
          excluded_no_return_truth_ == other.excluded_no_return_truth_ &&
+         no_return_mislabelled_ == other.no_return_mislabelled_ &&
          invalid_beams_ == other.invalid_beams_;
 }
 
@@ -123,6 +126,7 @@ std::string ConfusionMatrix::toJson() const {
   std::ostringstream out;
   out << "{\n  \"scans\": " << scans_ << ",\n  \"scored_rays\": " << scoredRays()
       << ",\n  \"excluded_no_return_truth\": " << excluded_no_return_truth_
+      << ",\n  \"no_return_mislabelled\": " << no_return_mislabelled_
       << ",\n  \"invalid_beams\": " << invalid_beams_ << ",\n  \"classes\": {\n";
   for (std::size_t i = 0; i < rows_.size(); ++i) {
     const ClassCounts& c = rows_[i];
@@ -147,6 +151,9 @@ ConfusionMatrix ConfusionMatrix::fromJson(const std::string& json_text) {
     matrix.scans_ = readCount(root, "scans");
     matrix.excluded_no_return_truth_ = readCount(root, "excluded_no_return_truth");
     matrix.invalid_beams_ = readCount(root, "invalid_beams");
+    if (root["no_return_mislabelled"]) {
+      matrix.no_return_mislabelled_ = readCount(root, "no_return_mislabelled");
+    }
     const YAML::Node classes = root["classes"];
     if (!classes || !classes.IsMap()) throw std::runtime_error("evaluation JSON: no 'classes'");
     for (std::size_t i = 0; i < kScoredClassNames.size(); ++i) {

@@ -111,6 +111,12 @@ int evaluate(const std::string& truth_path, const std::string& labels_path,
           << " label messages without truth (or duplicates)";
   if (duplicate_truth) summary << "; " << duplicate_truth << " duplicate truth messages ignored";
   summary << ".\n\n";
+  if (matrix.noReturnMislabelled() * 100 > matrix.excludedNoReturnTruth()) {
+    summary << "**Warning**: " << matrix.noReturnMislabelled() << " of "
+            << matrix.excludedNoReturnTruth()
+            << " beams without an echo are not labelled NO_RETURN: are these labels from this "
+               "truth bag?\n\n";
+  }
   const std::string markdown =
       "# Ray classification\n\n" + summary.str() + matrix.toMarkdownTable();
   std::cout << markdown;

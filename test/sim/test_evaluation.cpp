@@ -14,6 +14,7 @@ TEST(ConfusionMatrixTest, CountsKeptAndRemovedPerTrueClass) {
                  {1, 1, 1, 0, 1, 3, 1, 2, 1, 3, 2, 1, 1, 0});
   EXPECT_EQ(matrix.scans(), 1u);
   EXPECT_EQ(matrix.excludedNoReturnTruth(), 2u);
+  EXPECT_EQ(matrix.noReturnMislabelled(), 1u);  // truth 0 labelled KEPT: mispaired or wrong
   EXPECT_EQ(matrix.scoredRays(), 12u);
 
   const ClassCounts& diffuse = matrix.row(0);

@@ -44,6 +44,9 @@ class ConfusionMatrix {
   ClassCounts& row(std::size_t scored_index) { return rows_.at(scored_index); }
   std::uint64_t scans() const { return scans_; }
   std::uint64_t excludedNoReturnTruth() const { return excluded_no_return_truth_; }
+  // Beams without a true echo that the labels do not call NO_RETURN. A mapper cannot label a beam
+  // with an infinite range otherwise, so a large count means truth and labels are mispaired.
+  std::uint64_t noReturnMislabelled() const { return no_return_mislabelled_; }
   std::uint64_t invalidBeams() const { return invalid_beams_; }
   std::uint64_t scoredRays() const;
 
@@ -59,6 +62,7 @@ class ConfusionMatrix {
   std::array<ClassCounts, 5> rows_{};
   std::uint64_t scans_ = 0;
   std::uint64_t excluded_no_return_truth_ = 0;
+  std::uint64_t no_return_mislabelled_ = 0;
   std::uint64_t invalid_beams_ = 0;
 };
 
