@@ -162,6 +162,7 @@ void writeSummaryJson(const std::string& path, const RunSummary& summary) {
   json.beginObject();
   json.key("bag").value(summary.bag);
   json.key("mode").value(summary.mode);
+  json.key("batch_mode").value(summary.batch_mode);
   json.key("fixed_frame").value(summary.fixed_frame);
   json.key("base_frame").value(summary.base_frame);
 

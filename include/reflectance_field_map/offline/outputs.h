@@ -37,7 +37,8 @@ void writeLabelsBag(const std::string& path, const std::string& topic, const Bag
 // Everything summary.json reports.
 struct RunSummary {
   std::string bag;
-  std::string mode;
+  std::string mode;        // selectMode() name
+  std::string batch_mode;  // the BatchMode passed to processBatch
   std::string fixed_frame;
   std::string base_frame;
   const BagScans* input = nullptr;
@@ -46,6 +47,7 @@ struct RunSummary {
   std::map<std::string, double> stage_seconds;  // read_bag, process, write_outputs, ...
   double wall_seconds = 0.0;
   std::vector<std::string> files;
+  std::vector<std::string> notes;  // besides the input's notes
 };
 
 // Label counts by RayLabel value: no_return, kept, motion, reflection.
