@@ -277,9 +277,13 @@ TEST_F(OfflineEndToEnd, StationaryLidarWithoutTf) {
   EXPECT_NE(run.output.find("--fixed-frame laser_"), std::string::npos) << run.output;
 
   run = runOffline("--bag " + path("in.bag") + " --out " + path("out2") +
-                   " --scan-topics /scan_front --fixed-frame laser_front");
+                   " --scan-topics /scan_front,/absent --fixed-frame laser_front");
   ASSERT_EQ(run.code, 0) << run.output;
+  EXPECT_NE(run.output.find("/absent is not in the bag"), std::string::npos) << run.output;
   expectOutputs(path("out2"));
+  const YAML::Node summary = YAML::LoadFile(path("out2/summary.json"));
+  ASSERT_EQ(summary["scans"]["missing_topics"].size(), 1u);
+  EXPECT_EQ(summary["scans"]["missing_topics"][0].as<std::string>(), "/absent");
   rosbag::Bag labels_bag(path("out2/labels.bag"));
   EXPECT_EQ(rosbag::View(labels_bag).size(), static_cast<uint32_t>(kScansPerTopic));
 }
