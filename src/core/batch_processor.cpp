@@ -121,8 +121,9 @@ BatchResult processBatch(const std::vector<TimedScan>& input, const MapperOption
   if (mode == BatchMode::kPlainGrid) return processPlainGrid(input, requested, extent, progress);
 
   MapperOptions options = requested;
-  options.motion_removal.motion_removal_enabled = mode != BatchMode::kBasicRfm;
-  options.reflection_removal.reflection_removal_enabled = mode == BatchMode::kFull;
+  // The mode switches stages off; it never switches on one the options disabled.
+  options.motion_removal.motion_removal_enabled &= mode != BatchMode::kBasicRfm;
+  options.reflection_removal.reflection_removal_enabled &= mode == BatchMode::kFull;
   options.reflection_removal.scan_buffer_size = 0;  // batch re-processes every scan instead
   options.active_region.active_region_radius = std::max(options.active_region.active_region_radius,
                                                         extent.half_side + options.grid.resolution);

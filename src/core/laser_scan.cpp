@@ -20,7 +20,8 @@ std::string LaserScan2D::validate() const {
     // Drivers differ on whether angle_max is the last beam or one step past it.
     const double span_beams = (static_cast<double>(angle_max) - angle_min) / angle_increment;
     const double expected = span_beams + 1.0;
-    if (std::abs(static_cast<double>(ranges.size()) - expected) > 1.5) {
+    const double count = static_cast<double>(ranges.size());
+    if (count > expected + 0.5 || count < expected - 1.5) {
       why << ranges.size() << " ranges but the angles [" << angle_min << ", " << angle_max
           << "] step " << angle_increment << " give " << std::lround(expected);
     }

@@ -6,6 +6,7 @@
 #include "reflectance_field_map/core/scan_inserter.h"
 
 #include <chrono>
+#include <cmath>
 #include <deque>
 #include <istream>
 #include <ostream>
@@ -30,7 +31,8 @@ struct BufferedScan {
 struct Mapper::Impl {
   Impl(const MapperOptions& options, const ReflectanceField& field)
       : rule(options.occupancy, field.geometry().binWidth()),
-        remover(rule),
+        remover(rule, static_cast<int>(std::ceil(options.motion_removal.persistence_time *
+                                                 options.motion_removal.motion_removal_rate))),
         classes(static_cast<size_t>(field.window().sizeCells()) * field.window().sizeCells(),
                 CellClass::kUnknown) {}
 
@@ -39,7 +41,8 @@ struct Mapper::Impl {
   ScanInserter inserter;
   // Classes of the active window from the last motion removal, by storage index.
   std::vector<CellClass> classes;
-  size_t blocking_cells = 0;  // glass/metal/static cells in `classes`
+  size_t blocking_cells = 0;     // glass/metal/static cells in `classes`
+  double last_tick_stamp = 0.0;  // persistence ticks follow the scans' clock
   std::deque<BufferedScan> buffer;
   std::vector<Ray> rays;
   std::vector<CellClass> box_classes;
@@ -53,6 +56,14 @@ Mapper::Mapper(const MapperOptions& options)
       impl_(std::make_unique<Impl>(options, field_)) {}
 
 Mapper::~Mapper() = default;
+
+bool Mapper::reflectiveAlong(const CellIndex& cell, int bin) const {
+  if (!field_.inActiveRegion(cell)) return false;
+  // One bin either side: a wall grazed at a shallow angle is hit in neighbouring directions.
+  const int bins = field_.geometry().thetaBins();
+  return field_.isReflective(cell, bin) || field_.isReflective(cell, (bin + 1) % bins) ||
+         field_.isReflective(cell, (bin + bins - 1) % bins);
+}
 
 CellClass Mapper::cellClass(const CellIndex& cell) const {
   if (field_.inActiveRegion(cell)) return impl_->classes[field_.window().storageIndex(cell)];
@@ -89,10 +100,7 @@ ScanUpdate Mapper::addScan(const TimedScan& scan) {
   if (options_.reflection_removal.reflection_removal_enabled && impl_->blocking_cells > 0) {
     auto class_of = [this](const CellIndex& cell) { return cellClass(cell); };
     auto reflective_near = [this](const CellIndex& cell, int bin) {
-      if (!field_.inActiveRegion(cell)) return false;
-      const int bins = field_.geometry().thetaBins();
-      return field_.isReflective(cell, bin) || field_.isReflective(cell, (bin + 1) % bins) ||
-             field_.isReflective(cell, (bin + bins - 1) % bins);
+      return reflectiveAlong(cell, bin);
     };
     for (Ray& ray : rays) {
       const double along = firstPassThroughDistance(
@@ -112,6 +120,7 @@ ScanUpdate Mapper::addScan(const TimedScan& scan) {
   const auto insert_start = std::chrono::steady_clock::now();
   update.bin_updates = impl_->inserter.insert(rays, field_);
   update.insert_ms = millisecondsSince(insert_start);
+  tickPersistenceIfDue(scan.stamp);
 
   if (options_.reflection_removal.scan_buffer_size > 0) {
     impl_->buffer.push_back({rays});
@@ -125,6 +134,16 @@ ScanUpdate Mapper::addScan(const TimedScan& scan) {
   impl_->stats.last_insert_ms = update.insert_ms;
   impl_->stats.last_reflection_ms = update.reflection_ms;
   return update;
+}
+
+void Mapper::tickPersistenceIfDue(double stamp) {
+  const double period = 1.0 / options_.motion_removal.motion_removal_rate;
+  if (impl_->stats.scans_processed == 0 || stamp < impl_->last_tick_stamp) {
+    impl_->last_tick_stamp = stamp;  // first scan, or time went back
+  } else if (stamp - impl_->last_tick_stamp >= period) {
+    field_.tickPersistence();
+    impl_->last_tick_stamp = stamp;
+  }
 }
 
 MotionRemovalSummary Mapper::removeMotion() {
@@ -188,41 +207,63 @@ MotionRemovalSummary Mapper::removeMotion() {
 }
 
 void Mapper::revertEvidenceBehindGlass() {
-  // Online Alg. 3: buffered rays that pass through glass found since they were inserted had
-  // their evidence beyond it added; take it back with the inverse updates.
+  // Online Alg. 3: buffered scans whose rays pass through glass found since they were inserted
+  // added evidence beyond it. Replay each such scan's de-duplicated updates with and without
+  // that evidence and apply the difference (reverts stop at the prior, see revertHitAt).
   auto class_of = [this](const CellIndex& cell) { return cellClass(cell); };
   auto reflective_near = [this](const CellIndex& cell, int bin) {
-    const int bins = field_.geometry().thetaBins();
-    return field_.isReflective(cell, bin) || field_.isReflective(cell, (bin + 1) % bins) ||
-           field_.isReflective(cell, (bin + bins - 1) % bins);
+    return reflectiveAlong(cell, bin);
   };
   const GridGeometry& geometry = field_.geometry();
+  std::vector<BinUpdate> before, after;
   for (BufferedScan& buffered : impl_->buffer) {
-    for (Ray& ray : buffered.rays) {
+    std::vector<Ray> truncated = buffered.rays;
+    bool changed = false;
+    for (Ray& ray : truncated) {
       const double along =
           firstPassThroughDistance(ray, geometry, options_.reflection_removal.penetration_tolerance,
                                    class_of, reflective_near);
       if (along < 0.0) continue;
-      const int bin = geometry.binOf(ray.angle);
-      const Eigen::Vector2d direction = (ray.end - ray.origin).normalized();
-      const Eigen::Vector2d cut = ray.origin + direction * (along + 0.5 * geometry.resolution());
-      const CellIndex cut_cell = geometry.cellOf(cut);
-      const CellIndex end_cell = geometry.cellOf(ray.end);
-      bool beyond = false;
-      forEachCellOnRay(ray.origin, ray.end, geometry.inverseResolution(),
-                       [&](const CellIndex& cell) {
-                         if (beyond) {
-                           if (ray.hit && cell == end_cell) {
-                             field_.revertHit(cell, bin);
-                           } else {
-                             field_.revertMiss(cell, bin);
-                           }
-                         }
-                         if (cell == cut_cell) beyond = true;
-                       });
-      ray.end = cut;
+      ray.end =
+          ray.origin + (ray.end - ray.origin).normalized() * (along + 0.5 * geometry.resolution());
       ray.hit = false;
+      changed = true;
     }
+    if (!changed) continue;
+    impl_->inserter.collectUpdates(buffered.rays, field_, before);
+    impl_->inserter.collectUpdates(truncated, field_, after);
+    size_t i = 0, j = 0;
+    while (i < before.size() || j < after.size()) {
+      if (j == after.size() || (i < before.size() && before[i] < after[j])) {
+        undo(before[i++]);
+      } else if (i == before.size() || after[j] < before[i]) {
+        redo(after[j++]);
+      } else {
+        if (before[i].hit != after[j].hit) {
+          undo(before[i]);
+          redo(after[j]);
+        }
+        ++i;
+        ++j;
+      }
+    }
+    buffered.rays = std::move(truncated);
+  }
+}
+
+void Mapper::undo(const BinUpdate& update) {
+  if (update.hit) {
+    field_.revertHitAt(update.slot, update.bin);
+  } else {
+    field_.revertMissAt(update.slot, update.bin);
+  }
+}
+
+void Mapper::redo(const BinUpdate& update) {
+  if (update.hit) {
+    field_.applyHitAt(update.slot, update.bin);
+  } else {
+    field_.applyMissAt(update.slot, update.bin);
   }
 }
 
@@ -233,10 +274,7 @@ std::vector<RayLabel> Mapper::labelScan(const TimedScan& scan, bool final_map) c
   scanToRays(scan.scan, scan.sensor_pose, options_.insertion, rays);
   auto class_of = [this](const CellIndex& cell) { return cellClass(cell); };
   auto reflective_near = [this](const CellIndex& cell, int bin) {
-    if (!field_.inActiveRegion(cell)) return false;
-    const int bins = field_.geometry().thetaBins();
-    return field_.isReflective(cell, bin) || field_.isReflective(cell, (bin + 1) % bins) ||
-           field_.isReflective(cell, (bin + bins - 1) % bins);
+    return reflectiveAlong(cell, bin);
   };
   const bool check_reflections =
       options_.reflection_removal.reflection_removal_enabled && impl_->blocking_cells > 0;

@@ -104,7 +104,8 @@ MotionRemovalCounts MotionRemover::classify(
         reflective += runs_[r].length;
       const bool anchor = widelyVisible(field, cell, reflective);
       widely_visible[local] = anchor;
-      bool seeded = anchor;
+      bool seeded =
+          anchor || (persistence_ticks_ > 0 && field.confirmedTicks(cell) >= persistence_ticks_);
       // Known obstacles just outside the box seed components crossing its border.
       if (!seeded &&
           (x == box.min.x() || y == box.min.y() || x == box.max.x() - 1 || y == box.max.y() - 1)) {

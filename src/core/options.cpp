@@ -58,6 +58,7 @@ void OccupancyOptions::validate() const {
 
 void MotionRemovalOptions::validate() const {
   requireRange("motion_removal_rate", motion_removal_rate, 0.01, 100.0);
+  requireRange("persistence_time", persistence_time, 0.0, 1e6);
 }
 
 void ReflectionRemovalOptions::validate() const {
@@ -147,6 +148,11 @@ const std::vector<FieldAccess>& accessTable() {
        [](MapperOptions& o) -> bool& { return o.motion_removal.motion_removal_enabled; }},
       {{"motion_removal_rate", "motion removal timer (Hz)", T::kDouble},
        [](MapperOptions& o) -> double& { return o.motion_removal.motion_removal_rate; },
+       {},
+       {}},
+      {{"persistence_time", "reflective this long without a break anchors like V (s, 0 off)",
+        T::kDouble},
+       [](MapperOptions& o) -> double& { return o.motion_removal.persistence_time; },
        {},
        {}},
       {{"reflection_removal_enabled", "run Alg. 3", T::kBool},

@@ -38,7 +38,9 @@ ReflectanceField::ReflectanceField(const GridOptions& grid, const LogOddsOptions
       mask_words_((grid.theta_bins + 63) / 64),
       bins_(plane_ * theta_bins_, 0),
       reflective_masks_(plane_ * mask_words_, 0),
-      missed_bins_(plane_, 0) {}
+      missed_bins_(plane_, 0),
+      hit_since_tick_(plane_, 0),
+      confirmed_ticks_(plane_, 0) {}
 
 WindowShift ReflectanceField::recenter(const Eigen::Vector2d& robot_position) {
   const TileIndex origin = window_.originCentredOn(geometry_.cellOf(robot_position));
@@ -83,13 +85,15 @@ double ReflectanceField::marginalOdds(const CellIndex& cell) const {
 
 size_t ReflectanceField::activeBytes() const {
   return bins_.size() * sizeof(int8_t) + reflective_masks_.size() * sizeof(uint64_t) +
-         missed_bins_.size() * sizeof(uint16_t);
+         missed_bins_.size() * sizeof(uint16_t) + hit_since_tick_.size() + confirmed_ticks_.size();
 }
 
 void ReflectanceField::clear() {
   std::fill(bins_.begin(), bins_.end(), 0);
   std::fill(reflective_masks_.begin(), reflective_masks_.end(), 0);
   std::fill(missed_bins_.begin(), missed_bins_.end(), 0);
+  std::fill(hit_since_tick_.begin(), hit_since_tick_.end(), 0);
+  std::fill(confirmed_ticks_.begin(), confirmed_ticks_.end(), 0);
   archive_.clear();
   centred_ = false;
 }
@@ -148,6 +152,8 @@ void ReflectanceField::clearTileStorage(const TileIndex& tile) {
   for (int row = 0; row < t; ++row) {
     const size_t first = static_cast<size_t>(y0 + row) * size + x0;
     std::fill(&missed_bins_[first], &missed_bins_[first] + t, 0);
+    std::fill(&hit_since_tick_[first], &hit_since_tick_[first] + t, 0);
+    std::fill(&confirmed_ticks_[first], &confirmed_ticks_[first] + t, 0);
     std::fill(&reflective_masks_[first * mask_words_],
               &reflective_masks_[(first + t) * mask_words_], 0);
   }
@@ -183,14 +189,35 @@ void ReflectanceField::rebuildCellSummary(int storage_index) {
   missed_bins_[storage_index] = missed;
 }
 
+void ReflectanceField::tickPersistence() {
+  for (size_t index = 0; index < plane_; ++index) {
+    const uint64_t* mask = &reflective_masks_[index * mask_words_];
+    bool reflective = false;
+    for (int w = 0; w < mask_words_; ++w)
+      reflective |= mask[w] != 0;
+    uint8_t& ticks = confirmed_ticks_[index];
+    if (!reflective) {
+      ticks = 0;
+    } else if (hit_since_tick_[index] && ticks < 255) {
+      ++ticks;  // not hit (occluded, out of view): held, neither confirmed nor reset
+    }
+    hit_since_tick_[index] = 0;
+  }
+}
+
 void ReflectanceField::rebuildAllSummaries() {
   for (size_t index = 0; index < plane_; ++index)
     rebuildCellSummary(static_cast<int>(index));
 }
 
 void ReflectanceField::revertAt(int storage_index, int bin, int step) {
+  // Clamping makes exact inversion impossible (a miss at the lower clamp changed nothing), so a
+  // revert moves towards the prior and never past it: it can under-correct, never invent.
   int8_t& v = bins_[static_cast<size_t>(bin) * plane_ + storage_index];
-  const int updated = std::clamp(v + step, log_odds_.minValue(), log_odds_.maxValue());
+  int updated = v + step;
+  if (step > 0) updated = v < 0 ? std::min(updated, 0) : v;
+  if (step < 0) updated = v > 0 ? std::max(updated, 0) : v;
+  if (updated == v) return;
   v = static_cast<int8_t>(updated);
   rebuildCellSummary(storage_index);
 }

@@ -1,5 +1,7 @@
 #include "reflectance_field_map/core/scan_inserter.h"
 
+#include <algorithm>
+
 namespace rfm {
 
 namespace {
@@ -29,7 +31,9 @@ void bucketRaysByBin(const std::vector<Ray>& rays, const GridGeometry& geometry,
     order[next[ray_bins[i]]++] = static_cast<uint32_t>(i);
 }
 
-size_t ScanInserter::insert(const std::vector<Ray>& rays, ReflectanceField& field) {
+template <typename Target>
+void ScanInserter::run(const std::vector<Ray>& rays, const ReflectanceField& field,
+                       Target& target) {
   const CellBox box = field.activeBox();
   const double resolution = field.geometry().resolution();
   clipped_.clear();
@@ -38,10 +42,26 @@ size_t ScanInserter::insert(const std::vector<Ray>& rays, ReflectanceField& fiel
     if (clipRayToBox(box, resolution, clipped)) clipped_.push_back(clipped);
   }
   bucketRaysByBin(clipped_, field.geometry(), order_, group_begin_);
-  FieldTarget target{field};
   inserter_.insert(field.window(), field.geometry().inverseResolution(), clipped_, order_,
                    group_begin_, target);
+}
+
+size_t ScanInserter::insert(const std::vector<Ray>& rays, ReflectanceField& field) {
+  FieldTarget target{field};
+  run(rays, field, target);
   return inserter_.updates();
+}
+
+void ScanInserter::collectUpdates(const std::vector<Ray>& rays, const ReflectanceField& field,
+                                  std::vector<BinUpdate>& updates) {
+  struct Recorder {
+    std::vector<BinUpdate>& out;
+    void hit(int slot, int bin) { out.push_back({slot, static_cast<int16_t>(bin), true}); }
+    void miss(int slot, int bin) { out.push_back({slot, static_cast<int16_t>(bin), false}); }
+  } recorder{updates};
+  updates.clear();
+  run(rays, field, recorder);
+  std::sort(updates.begin(), updates.end());
 }
 
 }  // namespace rfm

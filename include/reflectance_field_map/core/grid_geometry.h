@@ -12,7 +12,8 @@ using CellIndex = Eigen::Vector2i;
 // Global integer tile index: tile (i, j) holds cells [i*T, (i+1)*T) x [j*T, (j+1)*T).
 using TileIndex = Eigen::Vector2i;
 
-constexpr double kTwoPi = 6.283185307179586;
+constexpr double kPi = 3.141592653589793;
+constexpr double kTwoPi = 2.0 * kPi;
 
 // Angle wrapped into [0, 2*pi).
 inline double wrapTwoPi(double angle) {

@@ -5,6 +5,7 @@
 #include "reflectance_field_map/core/laser_scan.h"
 #include "reflectance_field_map/core/options.h"
 #include "reflectance_field_map/core/reflectance_field.h"
+#include "reflectance_field_map/core/scan_inserter.h"
 
 #include <cstdint>
 #include <iosfwd>
@@ -107,6 +108,11 @@ class Mapper {
  private:
   struct Impl;
   void revertEvidenceBehindGlass();
+  void undo(const BinUpdate& update);
+  void redo(const BinUpdate& update);
+  void tickPersistenceIfDue(double stamp);
+  // The cell returns rays travelling in `bin` (a surface hit there is not passed through).
+  bool reflectiveAlong(const CellIndex& cell, int bin) const;
 
   MapperOptions options_;
   ReflectanceField field_;

@@ -22,12 +22,15 @@ struct MotionRemovalCounts {
 // Motion removal (Alg. 2). Nodes are runs of contiguous reflective bins of one cell (theta
 // wraps around); two runs of 8-neighbouring cells are connected when their bins are within one
 // bin of each other, which is 26-connectivity in (x, y, theta). Components are found with an
-// iterative union-find. A component touching a widely visible cell (eq. 7), or a known
-// obstacle just outside the box, is a static structure: its cells are static (widely visible)
-// or glass/metal; any other component is motion.
+// iterative union-find. A component touching a widely visible cell (eq. 7), a long-lived cell,
+// or a known obstacle just outside the box, is a static structure: its cells are static (widely
+// visible) or glass/metal; any other component is motion.
 class MotionRemover {
  public:
-  explicit MotionRemover(const OccupancyRule& rule) : rule_(rule) {}
+  // `persistence_ticks` > 0: cells confirmed for that many persistence ticks anchor their
+  // component too (ReflectanceField::confirmedTicks).
+  explicit MotionRemover(const OccupancyRule& rule, int persistence_ticks = 0)
+      : rule_(rule), persistence_ticks_(persistence_ticks) {}
 
   // Classifies every cell of `box` (inside the field's active window) into `classes`
   // (row-major, x fastest). `outside` gives the known class of cells just outside the box.
@@ -47,6 +50,7 @@ class MotionRemover {
                      int reflective_bins) const;
 
   OccupancyRule rule_;
+  int persistence_ticks_;
   std::vector<Run> runs_;
   std::vector<uint32_t> cell_first_run_;  // CSR over box cells, size cells + 1
   std::vector<uint32_t> parent_;

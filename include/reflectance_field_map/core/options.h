@@ -64,6 +64,11 @@ struct OccupancyOptions {
 struct MotionRemovalOptions {
   bool motion_removal_enabled = true;
   double motion_removal_rate = 2.0;  // Hz, online timer
+  // Cells reflective and hit again throughout this long anchor their component like widely
+  // visible ones: a sensor that does not move sees walls from one direction only. A person
+  // standing this long counts as structure until the misses after they leave clear the cells.
+  // Measured in ticks of the motion-removal rate, on the scans' clock.
+  double persistence_time = 8.0;  // s, 0 disables
   void validate() const;
 };
 

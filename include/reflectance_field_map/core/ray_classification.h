@@ -15,10 +15,11 @@ inline bool blocksRays(CellClass c) {
 }
 
 // Reflection check of Alg. 3: walks the ray and returns the distance (m, along the ray) of the
-// first blocking cell that the ray passes through, or a negative value. A cell counts when it is
-// glass, metal or static, is not itself reflective in the ray's direction (+-1 bin: the surface
-// would have returned the ray there), and the ray goes on more than `penetration_tolerance`
-// beyond it (a hit's own surface, or a grazing wall, is not passed through).
+// first blocking cell that the ray passes through, or a negative value. A blocking cell is glass
+// or metal, or static and not reflective in the ray's direction (+-1 bin, via reflective_near).
+// Passing through means crossing it: the ray comes out into a non-obstacle cell more than
+// `penetration_tolerance` before its end. A ray grazing along a wall stays inside the wall's
+// cells up to its end, and a ray ending on a surface ends within the tolerance: neither counts.
 //   class_of(cell) -> CellClass; reflective_near(cell, bin) -> bool.
 template <typename ClassOf, typename ReflectiveNear>
 double firstPassThroughDistance(const Ray& ray, const GridGeometry& geometry,
@@ -29,14 +30,21 @@ double firstPassThroughDistance(const Ray& ray, const GridGeometry& geometry,
   if (length <= penetration_tolerance) return -1.0;
   const Eigen::Vector2d direction = delta / length;
   const int bin = geometry.binOf(ray.angle);
-  // Only cells whose centre lies this far before the end are candidates.
   const double last_candidate = length - penetration_tolerance;
+  double blocked_at = -1.0;
   GridRayTraversal traversal(ray.origin, ray.end, geometry.inverseResolution());
   while (true) {
     const CellIndex& cell = traversal.cell();
     const double along = (geometry.cellCenter(cell) - ray.origin).dot(direction);
     if (along > last_candidate) return -1.0;
-    if (blocksRays(class_of(cell)) && !reflective_near(cell, bin)) return along;
+    const CellClass c = class_of(cell);
+    if (blocked_at < 0.0) {
+      const bool blocking = c == CellClass::kGlass || c == CellClass::kMetal ||
+                            (c == CellClass::kStatic && !reflective_near(cell, bin));
+      if (blocking) blocked_at = along;
+    } else if (!isObstacle(c)) {
+      return blocked_at;  // came out on the other side
+    }
     if (traversal.atEnd()) return -1.0;
     traversal.next();
   }

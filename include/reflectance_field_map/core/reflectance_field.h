@@ -45,6 +45,7 @@ class ReflectanceField {
     int8_t& v = bins_[static_cast<size_t>(bin) * plane_ + storage_index];
     const int8_t old = v;
     v = log_odds_.hit(old);
+    hit_since_tick_[storage_index] = 1;
     if (old <= 0 && v > 0) setReflective(storage_index, bin, true);
     if (old < 0 && v >= 0) --missed_bins_[storage_index];
   }
@@ -56,12 +57,13 @@ class ReflectanceField {
     if (old >= 0 && v < 0) ++missed_bins_[storage_index];
   }
 
-  // Inverse updates, to take back evidence found to come from beyond glass (online Alg. 3).
-  void revertHit(const CellIndex& cell, int bin) {
-    revertAt(window_.storageIndex(cell), bin, -log_odds_.hitStep());
+  // Inverse updates, to take back evidence found to come from beyond glass (online Alg. 3):
+  // towards the prior, never past it.
+  void revertHitAt(int storage_index, int bin) {
+    revertAt(storage_index, bin, -log_odds_.hitStep());
   }
-  void revertMiss(const CellIndex& cell, int bin) {
-    revertAt(window_.storageIndex(cell), bin, -log_odds_.missStep());
+  void revertMissAt(int storage_index, int bin) {
+    revertAt(storage_index, bin, -log_odds_.missStep());
   }
 
   // Per-cell summaries (cell inside the active region).
@@ -75,6 +77,14 @@ class ReflectanceField {
     const uint64_t* mask = reflectiveMask(cell);
     return (mask[bin >> 6] >> (bin & 63)) & 1u;
   }
+  // Persistence: how many consecutive ticks the cell has been reflective and hit again since
+  // the previous tick (saturates at 255). Long-confirmed evidence is structure even when seen
+  // from a single place; evidence that is merely never contradicted does not count.
+  int confirmedTicks(const CellIndex& cell) const {
+    return confirmed_ticks_[window_.storageIndex(cell)];
+  }
+  void tickPersistence();
+
   // eq. 7: sum over theta of the odds of reflectance times the bin width (rad).
   double marginalOdds(const CellIndex& cell) const;
 
@@ -121,6 +131,8 @@ class ReflectanceField {
   std::vector<int8_t> bins_;                // [bin][y][x]
   std::vector<uint64_t> reflective_masks_;  // [y][x][word]
   std::vector<uint16_t> missed_bins_;       // [y][x]
+  std::vector<uint8_t> hit_since_tick_;     // [y][x]
+  std::vector<uint8_t> confirmed_ticks_;    // [y][x]
   TileArchive archive_;
 };
 

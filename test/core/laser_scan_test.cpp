@@ -1,0 +1,79 @@
+#include "reflectance_field_map/core/laser_scan.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+namespace rfm {
+namespace {
+
+LaserScan2D fourBeamScan(std::vector<float> ranges) {
+  LaserScan2D scan;
+  scan.angle_min = 0.0f;
+  scan.angle_increment = static_cast<float>(kPi / 2);
+  scan.angle_max = static_cast<float>(1.5 * kPi);
+  scan.range_min = 0.1f;
+  scan.range_max = 10.0f;
+  scan.ranges = std::move(ranges);
+  return scan;
+}
+
+TEST(ClassifyBeam, FollowsRep117) {
+  const float inf = std::numeric_limits<float>::infinity();
+  EXPECT_EQ(classifyBeam(5.0f, 0.1f, 10.0f), BeamReading::kReturn);
+  EXPECT_EQ(classifyBeam(0.1f, 0.1f, 10.0f), BeamReading::kReturn);
+  EXPECT_EQ(classifyBeam(inf, 0.1f, 10.0f), BeamReading::kNoReturn);
+  EXPECT_EQ(classifyBeam(10.0f, 0.1f, 10.0f), BeamReading::kNoReturn);
+  EXPECT_EQ(classifyBeam(12.0f, 0.1f, 10.0f), BeamReading::kNoReturn);
+  EXPECT_EQ(classifyBeam(-inf, 0.1f, 10.0f), BeamReading::kInvalid);
+  EXPECT_EQ(classifyBeam(std::nanf(""), 0.1f, 10.0f), BeamReading::kInvalid);
+  EXPECT_EQ(classifyBeam(0.05f, 0.1f, 10.0f), BeamReading::kInvalid);
+}
+
+TEST(ScanToRays, HitsClearingAndSkippedBeams) {
+  const float inf = std::numeric_limits<float>::infinity();
+  const LaserScan2D scan = fourBeamScan({2.0f, inf, std::nanf(""), 0.01f});
+  InsertionOptions options;
+  options.clearing_distance = 3.0;
+  std::vector<Ray> rays;
+  scanToRays(scan, Pose2D{{1.0, 1.0}, kPi / 2}, options, rays);
+  ASSERT_EQ(rays.size(), 2u);
+  EXPECT_TRUE(rays[0].hit);
+  EXPECT_EQ(rays[0].beam, 0u);
+  EXPECT_LT((rays[0].end - Eigen::Vector2d(1.0, 3.0)).norm(), 1e-5);  // beam 0 points along +y
+  EXPECT_FALSE(rays[1].hit);
+  EXPECT_EQ(rays[1].beam, 1u);
+  EXPECT_LT((rays[1].end - Eigen::Vector2d(-2.0, 1.0)).norm(), 1e-5);  // cleared 3 m along -x
+}
+
+TEST(ScanToRays, ClearingDistanceNeverExceedsRangeMax) {
+  LaserScan2D scan = fourBeamScan({std::numeric_limits<float>::infinity(), 1.0f, 1.0f, 1.0f});
+  scan.range_max = 2.0f;
+  InsertionOptions options;
+  options.clearing_distance = 5.0;
+  std::vector<Ray> rays;
+  scanToRays(scan, Pose2D(), options, rays);
+  EXPECT_NEAR((rays[0].end - rays[0].origin).norm(), 2.0, 1e-6);
+}
+
+TEST(LaserScanValidate, RejectsMalformedScans) {
+  EXPECT_EQ(fourBeamScan({1, 1, 1, 1}).validate(), "");
+  // angle_max may be the last beam or one step past it (drivers differ); more is malformed.
+  EXPECT_EQ(fourBeamScan({1, 1, 1}).validate(), "");
+  EXPECT_NE(fourBeamScan({1, 1}).validate().find("2 ranges"), std::string::npos);
+  EXPECT_NE(fourBeamScan({1, 1, 1, 1, 1}).validate().find("5 ranges"), std::string::npos);
+  LaserScan2D negative = fourBeamScan({1, 1, 1, 1});
+  negative.angle_increment = -negative.angle_increment;
+  EXPECT_NE(negative.validate().find("angle_increment"), std::string::npos);
+  LaserScan2D limits = fourBeamScan({1, 1, 1, 1});
+  limits.range_max = 0.0f;
+  EXPECT_NE(limits.validate().find("range"), std::string::npos);
+  LaserScan2D nan_angle = fourBeamScan({1, 1, 1, 1});
+  nan_angle.angle_min = std::nanf("");
+  EXPECT_FALSE(nan_angle.validate().empty());
+  EXPECT_FALSE(fourBeamScan({}).validate().empty());
+}
+
+}  // namespace
+}  // namespace rfm

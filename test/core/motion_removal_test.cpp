@@ -1,0 +1,209 @@
+#include "reflectance_field_map/core/motion_removal.h"
+
+#include "scenario.h"
+
+#include <gtest/gtest.h>
+
+namespace rfm {
+namespace {
+
+using testing::Disc;
+using testing::driveBy;
+using testing::fractionAlong;
+using testing::runScenario;
+using testing::ScenarioStep;
+using testing::SyntheticWorld;
+
+TEST(BinIntervals, OverlapWrapsAroundTheCircle) {
+  EXPECT_TRUE(binIntervalsOverlap(0, 3, 2, 2, 180));
+  EXPECT_FALSE(binIntervalsOverlap(0, 3, 3, 2, 180));
+  EXPECT_TRUE(binIntervalsOverlap(178, 4, 1, 1, 180));  // 178,179,0,1
+  EXPECT_FALSE(binIntervalsOverlap(178, 3, 1, 1, 180));
+  EXPECT_TRUE(binIntervalsOverlap(-1, 3, 179, 1, 180));  // dilated run starting before bin 0
+  EXPECT_TRUE(binIntervalsOverlap(10, 180, 50, 1, 180));
+}
+
+// Builds field evidence directly: a set of (cell, bin) hits.
+struct DirectField {
+  DirectField() : field(GridOptions(), LogOddsOptions(), region()) { field.recenter({0, 0}); }
+  static ActiveRegionOptions region() {
+    ActiveRegionOptions r;
+    r.active_region_radius = 2.0;
+    return r;
+  }
+  void hit(const CellIndex& cell, int bin, int times = 10) {
+    for (int i = 0; i < times; ++i)
+      field.applyHit(cell, bin);
+  }
+  CellClass classify(const CellIndex& cell) {
+    MotionRemover remover(OccupancyRule(OccupancyOptions(), field.geometry().binWidth()));
+    std::vector<CellClass> classes;
+    const CellBox box = field.activeBox();
+    remover.classify(
+        field, box, [](const CellIndex&) { return CellClass::kUnknown; }, classes);
+    return classes[static_cast<size_t>(cell.y() - box.min.y()) * box.width() + cell.x() -
+                   box.min.x()];
+  }
+  ReflectanceField field;
+};
+
+TEST(MotionRemover, TwentySixConnectivityIncludingThetaWrap) {
+  DirectField f;
+  for (int b = 0; b < 40; ++b)
+    f.hit({0, 0}, b);  // widely visible anchor
+  // A stroke connected diagonally in (x, y) and by one bin in theta, wrapping 0 -> 179.
+  f.hit({1, 1}, 179);
+  f.hit({2, 2}, 178);
+  f.hit({3, 2}, 177);
+  // An island two bins away in theta from the stroke's end: not connected.
+  f.hit({4, 2}, 175);
+  EXPECT_EQ(f.classify({0, 0}), CellClass::kStatic);
+  EXPECT_EQ(f.classify({1, 1}), CellClass::kGlass);
+  EXPECT_EQ(f.classify({2, 2}), CellClass::kGlass);
+  EXPECT_EQ(f.classify({3, 2}), CellClass::kGlass);
+  EXPECT_EQ(f.classify({4, 2}), CellClass::kMotion);
+  // Two cells apart in space: not connected either.
+  f.hit({6, 2}, 177);
+  EXPECT_EQ(f.classify({6, 2}), CellClass::kMotion);
+}
+
+TEST(MotionRemover, ASecondRunInTheSameCellIsJudgedOnItsOwn) {
+  DirectField f;
+  for (int b = 0; b < 40; ++b)
+    f.hit({0, 0}, b);
+  f.hit({1, 0}, 39);   // glass-like lobe attached to the anchor
+  f.hit({1, 0}, 120);  // a person crossing the same cell in another direction
+  f.hit({2, 0}, 121);
+  EXPECT_EQ(f.classify({1, 0}), CellClass::kGlass);   // any anchored run keeps the cell
+  EXPECT_EQ(f.classify({2, 0}), CellClass::kMotion);  // the person's run is not anchored
+}
+
+TEST(MotionRemover, LongStrokesDoNotOverflowAnything) {
+  // A long connected structure (iterative union-find, no recursion).
+  DirectField f;
+  for (int x = -30; x < 30; ++x) {
+    for (int y = -30; y < 30; ++y)
+      f.hit({x, y}, positiveMod(x + y, 180), 2);
+  }
+  EXPECT_EQ(f.classify({0, 0}), CellClass::kMotion);
+}
+
+TEST(MotionRemover, KnownObstaclesOutsideTheBoxSeedComponents) {
+  DirectField f;
+  const CellBox box = f.field.activeBox();
+  const CellIndex border(box.max.x() - 1, 0);
+  f.hit(border, 5);
+  f.hit(border - CellIndex(1, 0), 6);
+  MotionRemover remover(OccupancyRule(OccupancyOptions(), f.field.geometry().binWidth()));
+  std::vector<CellClass> classes;
+  remover.classify(
+      f.field, box,
+      [&](const CellIndex& c) {
+        return c.x() == box.max.x() ? CellClass::kStatic : CellClass::kUnknown;
+      },
+      classes);
+  const size_t i =
+      static_cast<size_t>(0 - box.min.y()) * box.width() + (border.x() - 1 - box.min.x());
+  EXPECT_EQ(classes[i], CellClass::kGlass);
+  EXPECT_EQ(classes[i + 1], CellClass::kGlass);
+  // Without the seed the same evidence is motion.
+  EXPECT_EQ(f.classify(border), CellClass::kMotion);
+}
+
+// Fig. 2: a freestanding pane with frames passed by the robot: the frames are widely visible,
+// the face is reflective only near its normal (the H), and the face is classified glass.
+TEST(MotionRemoval, FreestandingPaneIsGlassWithTheHShape) {
+  SyntheticWorld world;
+  world.addFramedPane({3.0, -2.0}, {3.0, 2.0});
+  Mapper mapper(testing::scenarioOptions());
+  runScenario(mapper, world, driveBy({0.0, -5.0}, {0.0, 5.0}, 200, kPi / 2));
+  EXPECT_GT(fractionAlong(mapper, {3.0, -1.85}, {3.0, 1.85},
+                          [](CellClass c) { return c == CellClass::kGlass; }),
+            0.9);
+  // The H: frame cells reflective over a wide angle, face cells over a narrow one near 0 rad.
+  const ReflectanceField& field = mapper.field();
+  const GridGeometry& g = field.geometry();
+  const CellIndex frame = g.cellOf({3.0 + 1e-3, 1.97});
+  const CellIndex face = g.cellOf({3.0 + 1e-3, 0.5});
+  EXPECT_GE(field.reflectiveBins(frame) * g.binWidth(), 30.0 * kPi / 180.0);
+  EXPECT_EQ(mapper.cellClass(frame), CellClass::kStatic);
+  EXPECT_LE(field.reflectiveBins(face) * g.binWidth(), 16.0 * kPi / 180.0);
+  EXPECT_TRUE(field.isReflective(face, g.binOf(0.0)) || field.isReflective(face, g.binOf(-0.01)));
+}
+
+// Fig. 3: a pedestrian walking past leaves a thin stroke: removed, not an obstacle. The sensor
+// does not move, so the wall is never widely visible: it is kept because it persists.
+TEST(MotionRemoval, PedestrianWalkingPastIsRemoved) {
+  SyntheticWorld world;
+  world.addWall({-6.0, 4.0}, {6.0, 4.0});
+  std::vector<ScenarioStep> steps;
+  for (int i = 0; i < 400; ++i) {
+    const double t = 0.025 * i;
+    steps.push_back({{{0.0, 0.0}, kPi / 2}, {Disc{{-4.0 + 0.8 * t, 2.0}, 0.25}}});
+  }
+  Mapper mapper(testing::scenarioOptions());
+  runScenario(mapper, world, steps);
+  EXPECT_EQ(
+      fractionAlong(mapper, {-3.8, 1.75}, {3.5, 1.75}, [](CellClass c) { return isObstacle(c); }),
+      0.0);
+  // Where the person stood at the start, no later ray contradicts the evidence (beyond the
+  // clearing distance): it is never confirmed again, so it is motion, not structure.
+  EXPECT_GT(fractionAlong(mapper, {-4.15, 1.78}, {-3.85, 1.78},
+                          [](CellClass c) { return c == CellClass::kMotion; }),
+            0.5);
+  EXPECT_GT(
+      fractionAlong(mapper, {-2.0, 4.0}, {2.0, 4.0}, [](CellClass c) { return isObstacle(c); }),
+      0.95);
+}
+
+// A person who stands still long enough looks static; once they walk away the misses through
+// their old place must remove them (log-odds, not discarding).
+TEST(MotionRemoval, PedestrianPausingThenLeavingIsRemoved) {
+  SyntheticWorld world;
+  world.addWall({-6.0, 5.0}, {6.0, 5.0});
+  std::vector<ScenarioStep> steps;
+  const Eigen::Vector2d spot(0.5, 2.5);
+  for (int i = 0; i < 400; ++i) {  // 10 s standing while the robot circles slowly in place
+    steps.push_back({{{0.0, 0.0}, 0.01 * i}, {Disc{spot, 0.25}}});
+  }
+  for (int i = 0; i < 120; ++i) {  // walks off to the left
+    steps.push_back({{{0.0, 0.0}, 4.0}, {Disc{spot + Eigen::Vector2d(-0.03 * i, 0.0), 0.25}}});
+  }
+  for (int i = 0; i < 400; ++i) {  // gone; the robot keeps looking
+    steps.push_back({{{0.0, 0.0}, 4.0 - 0.005 * i}, {}});
+  }
+  Mapper mapper(testing::scenarioOptions());
+  runScenario(mapper, world, steps);
+  const GridGeometry& g = mapper.field().geometry();
+  for (double dx = -0.25; dx <= 0.25; dx += 0.05) {
+    for (double dy = -0.25; dy <= 0.25; dy += 0.05) {
+      EXPECT_FALSE(isObstacle(mapper.cellClass(g.cellOf(spot + Eigen::Vector2d(dx, dy)))))
+          << dx << "," << dy;
+    }
+  }
+}
+
+// The control: an office without glass loses nothing.
+TEST(MotionRemoval, PlainOfficeKeepsEveryWall) {
+  SyntheticWorld world;
+  world.addWall({-5.0, -3.0}, {5.0, -3.0});
+  world.addWall({5.0, -3.0}, {5.0, 3.0});
+  world.addWall({5.0, 3.0}, {-5.0, 3.0});
+  world.addWall({-5.0, 3.0}, {-5.0, -3.0});
+  world.addWall({-1.0, 1.0}, {1.0, 1.0});  // a desk edge
+  Mapper mapper(testing::scenarioOptions());
+  const std::vector<TimedScan> scans =
+      runScenario(mapper, world, driveBy({-3.5, -1.5}, {3.5, -1.5}, 200, 0.3));
+  size_t kept = 0, returns = 0;
+  for (const TimedScan& scan : scans) {
+    for (RayLabel label : mapper.labelScan(scan, true)) {
+      returns += label != RayLabel::kNoReturn;
+      kept += label == RayLabel::kKept;
+    }
+  }
+  EXPECT_GT(static_cast<double>(kept) / returns, 0.99);
+  EXPECT_EQ(mapper.stats().motion_cells, 0u);
+}
+
+}  // namespace
+}  // namespace rfm

@@ -1,0 +1,69 @@
+#include "reflectance_field_map/core/occupancy.h"
+
+#include <gtest/gtest.h>
+
+namespace rfm {
+namespace {
+
+const double kDeg = kPi / 180.0;
+
+TEST(OccupancyRule, AlphaCountsReflectiveAngle) {
+  OccupancyOptions options;
+  options.alpha = 1.0 * kDeg;
+  const OccupancyRule one_degree(options, 2.0 * kDeg);
+  EXPECT_FALSE(one_degree.isOccupied(0));
+  EXPECT_TRUE(one_degree.isOccupied(1));  // 2 deg > 1 deg
+  options.alpha = 5.0 * kDeg;
+  const OccupancyRule five_degrees(options, 2.0 * kDeg);
+  EXPECT_FALSE(five_degrees.isOccupied(2));  // 4 deg
+  EXPECT_TRUE(five_degrees.isOccupied(3));   // 6 deg
+  EXPECT_EQ(five_degrees.classify(2, 10), CellClass::kFree);
+  EXPECT_EQ(five_degrees.classify(2, 0), CellClass::kUnknown);
+  EXPECT_EQ(five_degrees.classify(3, 10), CellClass::kOccupied);
+}
+
+ReflectanceField fieldWithHits(int bins_hit, int hits_per_bin, int bins_missed) {
+  ActiveRegionOptions region;
+  region.active_region_radius = 2.0;
+  ReflectanceField field(GridOptions(), LogOddsOptions(), region);
+  field.recenter({0, 0});
+  for (int b = 0; b < bins_hit; ++b) {
+    for (int k = 0; k < hits_per_bin; ++k)
+      field.applyHit({0, 0}, b);
+  }
+  for (int b = 0; b < bins_missed; ++b) {
+    for (int k = 0; k < 10; ++k)
+      field.applyMiss({0, 0}, 179 - b);
+  }
+  return field;
+}
+
+TEST(OccupancyRule, BetaSeparatesWidelyVisibleFromNarrowLobes) {
+  const OccupancyRule rule(OccupancyOptions(), 2.0 * kDeg);  // beta = 14
+  // A wall edge seen saturated over 30 deg (15 bins): widely visible.
+  EXPECT_TRUE(rule.isWidelyVisible(fieldWithHits(15, 10, 60), {0, 0}));
+  // A glass face seen near its normal (3 bins) and missed from 90 other bins: not.
+  EXPECT_FALSE(rule.isWidelyVisible(fieldWithHits(3, 10, 90), {0, 0}));
+  // A brief, unsaturated glimpse of many bins (one hit each) is not widely visible either.
+  EXPECT_FALSE(rule.isWidelyVisible(fieldWithHits(20, 1, 100), {0, 0}));
+  // An unobserved cell sums to 2*pi < beta.
+  EXPECT_FALSE(rule.isWidelyVisible(fieldWithHits(0, 0, 0), {0, 0}));
+}
+
+TEST(OccupancyRule, MetalNeedsAWideLobe) {
+  const OccupancyRule rule(OccupancyOptions(), 2.0 * kDeg);  // 10 deg
+  EXPECT_FALSE(rule.isMetalLobe(4));
+  EXPECT_TRUE(rule.isMetalLobe(5));
+}
+
+TEST(CellClass, OccupancyValues) {
+  EXPECT_EQ(occupancyValue(CellClass::kUnknown), -1);
+  EXPECT_EQ(occupancyValue(CellClass::kFree), 0);
+  EXPECT_EQ(occupancyValue(CellClass::kMotion), 0);
+  EXPECT_EQ(occupancyValue(CellClass::kStatic), 100);
+  EXPECT_EQ(occupancyValue(CellClass::kGlass), 100);
+  EXPECT_EQ(occupancyValue(CellClass::kMetal), 100);
+}
+
+}  // namespace
+}  // namespace rfm

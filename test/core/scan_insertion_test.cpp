@@ -1,0 +1,129 @@
+#include "reflectance_field_map/core/plain_occupancy_grid.h"
+#include "reflectance_field_map/core/scan_inserter.h"
+
+#include "synthetic_world.h"
+
+#include <gtest/gtest.h>
+
+namespace rfm {
+namespace {
+
+using testing::SyntheticWorld;
+
+struct Fixture {
+  Fixture() : field(GridOptions(), LogOddsOptions(), region()) { field.recenter({0, 0}); }
+  static ActiveRegionOptions region() {
+    ActiveRegionOptions r;
+    r.active_region_radius = 6.0;
+    return r;
+  }
+  ReflectanceField field;
+  ScanInserter inserter;
+};
+
+Ray makeRay(const Eigen::Vector2d& from, const Eigen::Vector2d& to, bool hit, uint32_t beam = 0) {
+  Ray ray;
+  ray.origin = from;
+  ray.end = to;
+  ray.angle = std::atan2(to.y() - from.y(), to.x() - from.x());
+  ray.hit = hit;
+  ray.beam = beam;
+  return ray;
+}
+
+TEST(ScanInserter, EachRayUpdatesOnlyItsThetaSlice) {
+  Fixture f;
+  f.inserter.insert({makeRay({0.01, 0.01}, {1.01, 0.01}, true)}, f.field);
+  const int bin = f.field.geometry().binOf(0.0);
+  for (int x = 0; x < 20; ++x) {
+    EXPECT_LT(f.field.value({x, 0}, bin), 0) << x;  // misses along the way
+    for (int other : {bin + 1, 179, 90})
+      EXPECT_EQ(f.field.value({x, 0}, other), 0);
+  }
+  EXPECT_GT(f.field.value({20, 0}, bin), 0);  // the hit
+  EXPECT_EQ(f.field.value({21, 0}, bin), 0);  // nothing beyond
+}
+
+TEST(ScanInserter, OneUpdatePerCellAndBinPerScanAndHitsWin) {
+  Fixture f;
+  const LogOddsModel& model = f.field.logOdds();
+  // Three rays in the same bin cross cell (10, 0); one of them ends there.
+  std::vector<Ray> rays = {makeRay({0.01, 0.01}, {1.01, 0.01}, true),
+                           makeRay({0.01, 0.02}, {0.52, 0.02}, true),
+                           makeRay({0.01, 0.03}, {1.51, 0.03}, false)};
+  const size_t updates = f.inserter.insert(rays, f.field);
+  const int bin = f.field.geometry().binOf(0.0);
+  EXPECT_EQ(f.field.value({10, 0}, bin), model.hit(0));   // hit won, applied once
+  EXPECT_EQ(f.field.value({5, 0}, bin), model.miss(0));   // three misses count once
+  EXPECT_EQ(f.field.value({20, 0}, bin), model.hit(0));   // hit of ray 0, not missed by ray 2
+  EXPECT_EQ(f.field.value({30, 0}, bin), model.miss(0));  // end of the cleared stretch
+  EXPECT_EQ(updates, 31u);                                // cells 0..30 of one slice, once each
+  // The next scan updates them again.
+  f.inserter.insert(rays, f.field);
+  EXPECT_EQ(f.field.value({5, 0}, bin), model.miss(model.miss(0)));
+}
+
+TEST(ScanInserter, RaysLeavingTheWindowKeepMissesAndLoseTheirHit) {
+  Fixture f;
+  const CellBox box = f.field.activeBox();
+  const double edge = box.max.x() * 0.05;
+  f.inserter.insert({makeRay({0.01, 0.01}, {edge + 3.0, 0.01}, true)}, f.field);
+  const int bin = f.field.geometry().binOf(0.0);
+  EXPECT_LT(f.field.value({box.max.x() - 1, 0}, bin), 0);
+  for (int x = 0; x < box.max.x(); ++x)
+    ASSERT_LE(f.field.value({x, 0}, bin), 0);
+}
+
+TEST(ScanInserter, SeveralSensorsWithTheirOwnPoses) {
+  Fixture f;
+  SyntheticWorld world;
+  world.addWall({2.0, -3.0}, {2.0, 3.0});
+  std::vector<Ray> rays, front, rear;
+  scanToRays(world.scan({{0.3, 0.0}, 0.0}), {{0.3, 0.0}, 0.0}, InsertionOptions(), front);
+  scanToRays(world.scan({{-0.3, 0.0}, kPi}), {{-0.3, 0.0}, kPi}, InsertionOptions(), rear);
+  rays = front;
+  rays.insert(rays.end(), rear.begin(), rear.end());
+  f.inserter.insert(rays, f.field);
+  // The wall is seen by the front sensor from +x travelling rays.
+  const CellIndex wall = f.field.geometry().cellOf({2.0 + 1e-3, 0.0});
+  EXPECT_TRUE(f.field.isReflective(wall, f.field.geometry().binOf(0.0)));
+  // The rear sensor cleared space behind the robot along -x.
+  const CellIndex behind = f.field.geometry().cellOf({-2.0, 0.0});
+  const int backwards = f.field.geometry().binOf(kPi);  // the beam may round to either side
+  EXPECT_LT(std::min(f.field.value(behind, backwards), f.field.value(behind, backwards - 1)), 0);
+}
+
+// The paper's core claim (Sec. III): a pane seen only near its normal, and passed through from
+// every other direction, stays an obstacle in the RFM but is erased by an occupancy grid.
+TEST(GlassPane, StaysOccupiedInTheRfmButIsErasedInThePlainGrid) {
+  SyntheticWorld world;
+  world.addFramedPane({3.0, -4.0}, {3.0, 4.0});
+  world.addWall({6.0, -8.0}, {6.0, 8.0});
+  ActiveRegionOptions region;
+  region.active_region_radius = 12.0;
+  ReflectanceField field(GridOptions(), LogOddsOptions(), region);
+  PlainOccupancyGrid grid(GridOptions(), LogOddsOptions(), region);
+  ScanInserter inserter;
+  field.recenter({0, 0});
+  grid.recenter({0, 0});
+  // The robot drives parallel to the pane: it faces it near-normally only briefly.
+  std::vector<Ray> rays;
+  for (const Pose2D& pose : testing::straightPath({0.0, -6.0}, {0.0, 6.0}, 120, kPi / 2)) {
+    scanToRays(world.scan(pose), pose, InsertionOptions(), rays);
+    inserter.insert(rays, field);
+    grid.insert(rays);
+  }
+  int rfm_occupied = 0, grid_occupied = 0, cells = 0;
+  for (double y = -3.5; y <= 3.5; y += 0.05) {
+    const CellIndex cell = field.geometry().cellOf({3.0 + 1e-3, y});
+    const CellIndex before = field.geometry().cellOf({3.0 - 1e-3, y});
+    ++cells;
+    rfm_occupied += field.reflectiveBins(cell) > 0 || field.reflectiveBins(before) > 0;
+    grid_occupied += grid.isOccupied(cell) || grid.isOccupied(before);
+  }
+  EXPECT_GT(rfm_occupied, 0.95 * cells);
+  EXPECT_LT(grid_occupied, 0.2 * cells);
+}
+
+}  // namespace
+}  // namespace rfm

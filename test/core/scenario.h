@@ -1,0 +1,68 @@
+#pragma once
+
+// Drives a Mapper through a synthetic world the way the node does: scans at 40 Hz, motion
+// removal on a 2 Hz "timer".
+
+#include "reflectance_field_map/core/mapper.h"
+
+#include "synthetic_world.h"
+
+#include <functional>
+#include <vector>
+
+namespace rfm {
+namespace testing {
+
+struct ScenarioStep {
+  Pose2D robot;
+  std::vector<Disc> people;
+};
+
+inline MapperOptions scenarioOptions() {
+  MapperOptions options;
+  options.active_region.active_region_radius = 10.0;
+  return options;
+}
+
+// Runs the steps; returns every scan inserted (for labelling afterwards).
+inline std::vector<TimedScan> runScenario(Mapper& mapper, SyntheticWorld& world,
+                                          const std::vector<ScenarioStep>& steps,
+                                          int scans_per_motion_removal = 20) {
+  std::vector<TimedScan> scans;
+  for (size_t i = 0; i < steps.size(); ++i) {
+    world.people = steps[i].people;
+    TimedScan scan = world.timedScan(steps[i].robot, 0.025 * i);
+    mapper.addScan(scan);
+    scans.push_back(std::move(scan));
+    if ((i + 1) % scans_per_motion_removal == 0) mapper.removeMotion();
+  }
+  mapper.removeMotion();
+  return scans;
+}
+
+inline std::vector<ScenarioStep> driveBy(const Eigen::Vector2d& from, const Eigen::Vector2d& to,
+                                         int steps, double yaw) {
+  std::vector<ScenarioStep> out;
+  for (const Pose2D& pose : straightPath(from, to, steps, yaw))
+    out.push_back({pose, {}});
+  return out;
+}
+
+// Fraction of the cells along a segment (either side of it) with one of the classes.
+inline double fractionAlong(const Mapper& mapper, const Eigen::Vector2d& a,
+                            const Eigen::Vector2d& b, std::function<bool(CellClass)> accept) {
+  const GridGeometry& g = mapper.field().geometry();
+  const Eigen::Vector2d u = (b - a).normalized();
+  const Eigen::Vector2d n(-u.y(), u.x());
+  int total = 0, accepted = 0;
+  for (double s = 0.0; s <= (b - a).norm(); s += g.resolution()) {
+    const Eigen::Vector2d p = a + s * u;
+    ++total;
+    accepted += accept(mapper.cellClass(g.cellOf(p + 1e-3 * n))) ||
+                accept(mapper.cellClass(g.cellOf(p - 1e-3 * n)));
+  }
+  return total == 0 ? 0.0 : static_cast<double>(accepted) / total;
+}
+
+}  // namespace testing
+}  // namespace rfm
