@@ -212,11 +212,11 @@ void ReflectanceField::rebuildAllSummaries() {
 
 void ReflectanceField::revertAt(int storage_index, int bin, int step) {
   // Clamping makes exact inversion impossible (a miss at the lower clamp changed nothing), so a
-  // revert moves towards the prior and never past it: it can under-correct, never invent.
+  // revert never moves a bin across the prior: it can under-correct, never invent.
   int8_t& v = bins_[static_cast<size_t>(bin) * plane_ + storage_index];
-  int updated = v + step;
-  if (step > 0) updated = v < 0 ? std::min(updated, 0) : v;
-  if (step < 0) updated = v > 0 ? std::max(updated, 0) : v;
+  const int shifted = std::clamp(v + step, log_odds_.minValue(), log_odds_.maxValue());
+  // Never cross (or leave) the prior: that would turn "seen empty" into "seen reflective".
+  const int updated = v < 0 ? std::min(shifted, 0) : (v > 0 ? std::max(shifted, 0) : 0);
   if (updated == v) return;
   v = static_cast<int8_t>(updated);
   rebuildCellSummary(storage_index);
