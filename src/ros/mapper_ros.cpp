@@ -171,6 +171,16 @@ void MapperRos::setDiagnostics() {
 void MapperRos::incomingScan(ScanInput& input, const sensor_msgs::LaserScanConstPtr& msg) {
   ++input.received;
   if (input.rate) input.rate->tick();
+  // Publishers number their messages: a gap means the subscriber queue dropped scans.
+  const uint32_t seq = msg->header.seq;
+  if (input.last_seq != 0 && seq > input.last_seq + 1 && seq - input.last_seq < 100000) {
+    const uint32_t lost = seq - input.last_seq - 1;
+    input.transport_drops += lost;
+    transport_drops_ += lost;
+    ROS_WARN_THROTTLE(5.0, "rfm: %u scans on %s lost in the subscriber queue (mapper too slow?)",
+                      lost, input.topic.c_str());
+  }
+  input.last_seq = seq;
   checkTimeJump();
   // A scan older than the newest of its topic by more than the threshold: a bag restarted
   // without --clock, or a driver whose clock jumped.
@@ -380,7 +390,7 @@ void MapperRos::statsTimer(const ros::TimerEvent&) {
   msg.header.stamp = ros::Time::now();
   msg.header.frame_id = params_.fixed_frame;
   msg.scans_processed = scans_processed_;
-  msg.scans_dropped = scans_dropped_;
+  msg.scans_dropped = scans_dropped_ + transport_drops_;  // rejected, without TF, or lost in queues
   stats_pub_.publish(msg);
 }
 
@@ -413,6 +423,7 @@ void MapperRos::resetAfterTimeJump(const std::string& why) {
   for (auto& input : inputs_) {
     input->tf_filter->clear();
     input->last_stamp = ros::Time();
+    input->last_seq = 0;
     if (input->rate) input->rate->clear();
   }
   std::lock_guard<std::mutex> lock(mapper_mutex_);
@@ -501,11 +512,20 @@ void MapperRos::diagnoseInput(diagnostic_updater::DiagnosticStatusWrapper& statu
   for (const auto& input : inputs_) {
     std::ostringstream value;
     value << input->received << " received, " << input->processed << " processed, "
-          << input->malformed << " malformed, " << input->tf_failures << " without TF";
+          << input->malformed << " malformed, " << input->tf_failures << " without TF, "
+          << input->transport_drops << " lost in the subscriber queue";
     status.add(input->topic, value.str());
   }
   status.add("Scans dropped (total)", scans_dropped_.load());
   status.add("TF queue overflows (total)", queue_overflows_.load());
+  const uint64_t lost = transport_drops_;
+  status.add("Scans lost in subscriber queues (total)", lost);
+  if (lost > transport_drops_reported_ && status.level == diagnostic_msgs::DiagnosticStatus::OK) {
+    status.summaryf(diagnostic_msgs::DiagnosticStatus::WARN,
+                    "%llu scans lost in subscriber queues (mapper slower than the scans)",
+                    static_cast<unsigned long long>(lost - transport_drops_reported_));
+  }
+  transport_drops_reported_ = lost;
 }
 
 void MapperRos::diagnoseTf(diagnostic_updater::DiagnosticStatusWrapper& status) {

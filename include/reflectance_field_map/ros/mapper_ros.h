@@ -62,8 +62,11 @@ class MapperRos {
     ros::Publisher labels_pub;
     double min_rate = 0.0, max_rate = 0.0;
     std::unique_ptr<diagnostic_updater::FrequencyStatus> rate;
-    ros::Time last_stamp;  // newest processed scan
-    std::atomic<uint64_t> received{0}, processed{0}, malformed{0}, tf_failures{0};
+    ros::Time last_stamp;   // newest processed scan
+    uint32_t last_seq = 0;  // header.seq of the last scan received (0: none yet)
+    // transport_drops: gaps in header.seq (the subscriber queue overflowed: mapper too slow).
+    std::atomic<uint64_t> received{0}, processed{0}, malformed{0}, tf_failures{0},
+        transport_drops{0};
   };
 
   void setParams();
@@ -131,8 +134,9 @@ class MapperRos {
   std::set<std::string> frames_not_in_tf_;
   std::string last_tf_error_;
   std::atomic<uint64_t> scans_dropped_{0}, tf_failures_{0}, queue_overflows_{0},
-      malformed_scans_{0}, time_jumps_{0}, scans_processed_{0};
-  uint64_t tf_failures_reported_ = 0, malformed_reported_ = 0, time_jumps_reported_ = 0;
+      malformed_scans_{0}, time_jumps_{0}, scans_processed_{0}, transport_drops_{0};
+  uint64_t tf_failures_reported_ = 0, malformed_reported_ = 0, time_jumps_reported_ = 0,
+           transport_drops_reported_ = 0;
   ros::Time newest_time_;  // newest ROS time seen, to detect jumps back
 };
 
