@@ -31,7 +31,10 @@ constexpr double kMaxLogOdds = 127 * LogOddsModel::kQuantum;
 void GridOptions::validate() const {
   requireRange("resolution", resolution, 0.005, 1.0);
   requireRange("theta_bins", theta_bins, 4, 1440);
-  requireRange("tile_cells", tile_cells, 4, 256);
+  requireRange("tile_cells", tile_cells, 4, 128);
+  if ((tile_cells & (tile_cells - 1)) != 0) {
+    throw InvalidOption("tile_cells", str(tile_cells), "a power of two in [4, 128]");
+  }
 }
 
 void LogOddsOptions::validate() const {

@@ -8,8 +8,23 @@ namespace rfm {
 
 struct PlainOccupancyGrid::Target {
   PlainOccupancyGrid& grid;
-  void hit(int slot, int) { grid.cells_[slot] = grid.log_odds_.hit(grid.cells_[slot]); }
-  void miss(int slot, int) { grid.cells_[slot] = grid.log_odds_.miss(grid.cells_[slot]); }
+  // Values held locally, as in ReflectanceField::SliceWriter, so the two compare fairly.
+  struct Writer {
+    int8_t* cells;
+    int hit_step, miss_step, min, max;
+    void hit(int slot) {
+      const int updated = cells[slot] + hit_step;
+      cells[slot] = static_cast<int8_t>(updated > max ? max : updated);
+    }
+    void miss(int slot) {
+      const int updated = cells[slot] + miss_step;
+      cells[slot] = static_cast<int8_t>(updated < min ? min : updated);
+    }
+  };
+  Writer writer(int) {
+    return {grid.cells_.data(), grid.log_odds_.hitStep(), grid.log_odds_.missStep(),
+            grid.log_odds_.minValue(), grid.log_odds_.maxValue()};
+  }
 };
 
 PlainOccupancyGrid::PlainOccupancyGrid(const GridOptions& grid, const LogOddsOptions& log_odds,
@@ -30,14 +45,9 @@ void PlainOccupancyGrid::recenter(const Eigen::Vector2d& robot_position) {
     return;
   }
   const WindowShift shift = diffWindows(window_, origin);
-  const int t = window_.tileCells();
+  const size_t tile_slots = static_cast<size_t>(window_.tileCells()) * window_.tileCells();
   for (const TileIndex& tile : shift.left) {
-    const int x0 = window_.storageCoordinate(tile.x() * t);
-    const int y0 = window_.storageCoordinate(tile.y() * t);
-    for (int row = 0; row < t; ++row) {
-      int8_t* first = &cells_[static_cast<size_t>(y0 + row) * window_.sizeCells() + x0];
-      std::fill(first, first + t, 0);
-    }
+    std::fill_n(&cells_[window_.tileFirstSlot(tile)], tile_slots, 0);
   }
   window_.setOrigin(origin);
 }

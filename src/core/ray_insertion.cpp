@@ -40,8 +40,8 @@ void DeduplicatingRayInserter::prepare(size_t slots) {
   }
 }
 
-uint32_t DeduplicatingRayInserter::nextStamp() {
-  if (++stamp_ == 0) {  // wrapped after 2^32 groups: old stamps could collide
+uint8_t DeduplicatingRayInserter::nextStamp() {
+  if (++stamp_ == 0) {  // wrapped: old stamps could collide with the new ones
     std::fill(stamps_.begin(), stamps_.end(), 0);
     stamp_ = 1;
   }

@@ -99,31 +99,20 @@ void ReflectanceField::clear() {
 }
 
 void ReflectanceField::gatherTile(const TileIndex& tile, std::vector<int8_t>& bins) const {
-  const int t = window_.tileCells();
-  const int size = window_.sizeCells();
-  bins.resize(static_cast<size_t>(t) * t * theta_bins_);
-  const int x0 = window_.storageCoordinate(tile.x() * t);
-  const int y0 = window_.storageCoordinate(tile.y() * t);
-  int8_t* out = bins.data();
+  const size_t cells = static_cast<size_t>(window_.tileCells()) * window_.tileCells();
+  const size_t first = window_.tileFirstSlot(tile);
+  bins.resize(cells * theta_bins_);
   for (int bin = 0; bin < theta_bins_; ++bin) {
-    for (int row = 0; row < t; ++row) {
-      const int8_t* src = &bins_[bin * plane_ + static_cast<size_t>(y0 + row) * size + x0];
-      out = std::copy(src, src + t, out);
-    }
+    const int8_t* src = &bins_[bin * plane_ + first];
+    std::copy(src, src + cells, &bins[bin * cells]);
   }
 }
 
 void ReflectanceField::scatterTile(const TileIndex& tile, const std::vector<int8_t>& bins) {
-  const int t = window_.tileCells();
-  const int size = window_.sizeCells();
-  const int x0 = window_.storageCoordinate(tile.x() * t);
-  const int y0 = window_.storageCoordinate(tile.y() * t);
-  const int8_t* in = bins.data();
+  const size_t cells = static_cast<size_t>(window_.tileCells()) * window_.tileCells();
+  const size_t first = window_.tileFirstSlot(tile);
   for (int bin = 0; bin < theta_bins_; ++bin) {
-    for (int row = 0; row < t; ++row) {
-      std::copy(in, in + t, &bins_[bin * plane_ + static_cast<size_t>(y0 + row) * size + x0]);
-      in += t;
-    }
+    std::copy(&bins[bin * cells], &bins[bin * cells] + cells, &bins_[bin * plane_ + first]);
   }
 }
 
@@ -139,24 +128,15 @@ void ReflectanceField::archiveTile(const TileIndex& tile) {
 }
 
 void ReflectanceField::clearTileStorage(const TileIndex& tile) {
-  const int t = window_.tileCells();
-  const int size = window_.sizeCells();
-  const int x0 = window_.storageCoordinate(tile.x() * t);
-  const int y0 = window_.storageCoordinate(tile.y() * t);
+  const size_t cells = static_cast<size_t>(window_.tileCells()) * window_.tileCells();
+  const size_t first = window_.tileFirstSlot(tile);
   for (int bin = 0; bin < theta_bins_; ++bin) {
-    for (int row = 0; row < t; ++row) {
-      int8_t* dst = &bins_[bin * plane_ + static_cast<size_t>(y0 + row) * size + x0];
-      std::fill(dst, dst + t, 0);
-    }
+    std::fill_n(&bins_[bin * plane_ + first], cells, 0);
   }
-  for (int row = 0; row < t; ++row) {
-    const size_t first = static_cast<size_t>(y0 + row) * size + x0;
-    std::fill(&missed_bins_[first], &missed_bins_[first] + t, 0);
-    std::fill(&hit_since_tick_[first], &hit_since_tick_[first] + t, 0);
-    std::fill(&confirmed_ticks_[first], &confirmed_ticks_[first] + t, 0);
-    std::fill(&reflective_masks_[first * mask_words_],
-              &reflective_masks_[(first + t) * mask_words_], 0);
-  }
+  std::fill_n(&missed_bins_[first], cells, 0);
+  std::fill_n(&hit_since_tick_[first], cells, 0);
+  std::fill_n(&confirmed_ticks_[first], cells, 0);
+  std::fill_n(&reflective_masks_[first * mask_words_], cells * mask_words_, 0);
 }
 
 void ReflectanceField::restoreTile(const TileIndex& tile) {
@@ -170,11 +150,10 @@ void ReflectanceField::restoreTile(const TileIndex& tile) {
 }
 
 void ReflectanceField::rebuildSummaries(const TileIndex& tile) {
-  const CellBox box = window_.tileBox(tile);
-  for (int y = box.min.y(); y < box.max.y(); ++y) {
-    for (int x = box.min.x(); x < box.max.x(); ++x)
-      rebuildCellSummary(window_.storageIndex({x, y}));
-  }
+  const int cells = window_.tileCells() * window_.tileCells();
+  const int first = window_.tileFirstSlot(tile);
+  for (int slot = first; slot < first + cells; ++slot)
+    rebuildCellSummary(slot);
 }
 
 void ReflectanceField::rebuildCellSummary(int storage_index) {

@@ -3,7 +3,10 @@
 namespace rfm {
 
 RollingWindow::RollingWindow(int tile_cells, int tiles_per_side)
-    : tile_cells_(tile_cells), tiles_per_side_(tiles_per_side) {}
+    : tile_cells_(tile_cells),
+      tile_shift_(__builtin_ctz(static_cast<unsigned>(tile_cells))),
+      tile_mask_(tile_cells - 1),
+      tiles_per_side_(tiles_per_side) {}
 
 CellBox RollingWindow::box() const {
   return {origin_tile_ * tile_cells_,

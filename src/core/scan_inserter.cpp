@@ -8,8 +8,7 @@ namespace {
 
 struct FieldTarget {
   ReflectanceField& field;
-  void hit(int slot, int bin) { field.applyHitAt(slot, bin); }
-  void miss(int slot, int bin) { field.applyMissAt(slot, bin); }
+  ReflectanceField::SliceWriter writer(int bin) { return field.sliceWriter(bin); }
 };
 
 }  // namespace
@@ -56,8 +55,13 @@ void ScanInserter::collectUpdates(const std::vector<Ray>& rays, const Reflectanc
                                   std::vector<BinUpdate>& updates) {
   struct Recorder {
     std::vector<BinUpdate>& out;
-    void hit(int slot, int bin) { out.push_back({slot, static_cast<int16_t>(bin), true}); }
-    void miss(int slot, int bin) { out.push_back({slot, static_cast<int16_t>(bin), false}); }
+    struct Writer {
+      std::vector<BinUpdate>& out;
+      int16_t bin;
+      void hit(int slot) { out.push_back({slot, bin, true}); }
+      void miss(int slot) { out.push_back({slot, bin, false}); }
+    };
+    Writer writer(int bin) { return {out, static_cast<int16_t>(bin)}; }
   } recorder{updates};
   updates.clear();
   run(rays, field, recorder);

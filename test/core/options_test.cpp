@@ -16,7 +16,7 @@ TEST(MapperOptions, EveryBadValueIsRejectedNamingTheField) {
   const std::vector<std::pair<std::string, std::vector<double>>> bad = {
       {"resolution", {0.0, -0.05, 2.0, nan}},
       {"theta_bins", {0, 3, 5000}},
-      {"tile_cells", {0, 2, 1000}},
+      {"tile_cells", {0, 2, 1000, 24}},
       {"log_odds_hit", {0.0, -0.5, 9.0, nan}},
       {"log_odds_miss", {0.0, 0.5, -9.0}},
       {"log_odds_min", {0.0, 1.0, -9.0}},

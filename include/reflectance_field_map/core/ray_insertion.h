@@ -5,7 +5,10 @@
 #include "reflectance_field_map/core/ray_traversal.h"
 #include "reflectance_field_map/core/rolling_window.h"
 
+#include <cmath>
 #include <cstdint>
+#include <cstdlib>
+#include <limits>
 #include <vector>
 
 namespace rfm {
@@ -21,7 +24,7 @@ bool clipRayToBox(const CellBox& box, double resolution, Ray& ray);
 // one theta bin (its own slice), for the plain grid all rays form one group.
 class DeduplicatingRayInserter {
  public:
-  // Calls target.hit(storage_index, group) / target.miss(storage_index, group).
+  // For each group g, `target.writer(g)` returns an object with hit(slot) and miss(slot).
   // `rays` are already clipped; `group_begin[g]..group_begin[g+1]` index `order`.
   template <typename Target>
   void insert(const RollingWindow& window, double inverse_resolution, const std::vector<Ray>& rays,
@@ -32,12 +35,52 @@ class DeduplicatingRayInserter {
 
  private:
   void prepare(size_t slots);
-  uint32_t nextStamp();
+  uint8_t nextStamp();
 
-  std::vector<uint32_t> stamps_;
-  uint32_t stamp_ = 0;
+  // One byte per slot keeps the stamps cache-resident; they are cleared every 255 groups.
+  std::vector<uint8_t> stamps_;
+  uint8_t stamp_ = 0;
   size_t updates_ = 0;
 };
+
+// The hot loop: walks a ray's cells in window storage coordinates with everything in registers
+// (the generic GridRayTraversal keeps per-axis arrays, which costs a store-to-load round trip per
+// step). Same cells, same order, same drift guard; calls visit(slot) for the first `cells`.
+template <typename Visit>
+inline void walkStorageCells(const Eigen::Vector2d& start, const Eigen::Vector2d& end,
+                             double inverse_resolution, const RollingWindow& window,
+                             bool include_end, Visit&& visit) {
+  const int size = window.sizeCells();
+  const double fx = start.x() * inverse_resolution, fy = start.y() * inverse_resolution;
+  const double ex = end.x() * inverse_resolution, ey = end.y() * inverse_resolution;
+  const int cx = static_cast<int>(std::floor(fx)), cy = static_cast<int>(std::floor(fy));
+  const double dx = ex - fx, dy = ey - fy;
+  int remaining_x = std::abs(static_cast<int>(std::floor(ex)) - cx);
+  int remaining_y = std::abs(static_cast<int>(std::floor(ey)) - cy);
+  const int step_x = dx > 0 ? 1 : -1, step_y = dy > 0 ? 1 : -1;
+  const double inf = std::numeric_limits<double>::infinity();
+  double t_max_x = dx == 0.0 ? inf : ((step_x > 0 ? cx + 1.0 : cx) - fx) / dx;
+  double t_max_y = dy == 0.0 ? inf : ((step_y > 0 ? cy + 1.0 : cy) - fy) / dy;
+  const double t_delta_x = dx == 0.0 ? inf : std::abs(1.0 / dx);
+  const double t_delta_y = dy == 0.0 ? inf : std::abs(1.0 / dy);
+  int x = positiveMod(cx, size), y = positiveMod(cy, size);
+  int cells = remaining_x + remaining_y + (include_end ? 1 : 0);
+  while (cells-- > 0) {
+    visit(window.storageSlot(x, y));
+    // Parametric choice, overruled when that axis has no steps left (drift guard).
+    if (t_max_x < t_max_y ? remaining_x > 0 : remaining_y == 0) {
+      t_max_x += t_delta_x;
+      --remaining_x;
+      x += step_x;
+      x = x == size ? 0 : (x < 0 ? size - 1 : x);
+    } else {
+      t_max_y += t_delta_y;
+      --remaining_y;
+      y += step_y;
+      y = y == size ? 0 : (y < 0 ? size - 1 : y);
+    }
+  }
+}
 
 template <typename Target>
 void DeduplicatingRayInserter::insert(const RollingWindow& window, double inverse_resolution,
@@ -46,51 +89,37 @@ void DeduplicatingRayInserter::insert(const RollingWindow& window, double invers
                                       const std::vector<uint32_t>& group_begin, Target& target) {
   const int size = window.sizeCells();
   prepare(static_cast<size_t>(size) * size);
-  updates_ = 0;
+  size_t updates = 0;
+  uint8_t* const stamps = stamps_.data();
   for (size_t group = 0; group + 1 < group_begin.size(); ++group) {
     const uint32_t begin = group_begin[group], end = group_begin[group + 1];
     if (begin == end) continue;
-    const uint32_t stamp = nextStamp();
+    const uint8_t stamp = nextStamp();
+    auto writer = target.writer(static_cast<int>(group));
     for (uint32_t k = begin; k < end; ++k) {
       const Ray& ray = rays[order[k]];
       if (!ray.hit) continue;
       const int slot = window.storageIndex(
           CellIndex(static_cast<int>(std::floor(ray.end.x() * inverse_resolution)),
                     static_cast<int>(std::floor(ray.end.y() * inverse_resolution))));
-      if (stamps_[slot] == stamp) continue;
-      stamps_[slot] = stamp;
-      target.hit(slot, static_cast<int>(group));
-      ++updates_;
+      if (stamps[slot] == stamp) continue;
+      stamps[slot] = stamp;
+      writer.hit(slot);
+      ++updates;
     }
     for (uint32_t k = begin; k < end; ++k) {
       const Ray& ray = rays[order[k]];
-      GridRayTraversal traversal(ray.origin, ray.end, inverse_resolution);
-      // Walk storage coordinates incrementally: the window wraps, the ray never leaves it.
-      int x = window.storageCoordinate(traversal.cell().x());
-      int y = window.storageCoordinate(traversal.cell().y());
-      // The end cell of a hit ray holds its hit; a cleared ray misses its end cell too.
-      int steps = traversal.remaining() + (ray.hit ? 0 : 1);
-      while (steps-- > 0) {
-        const int slot = y * size + x;
-        if (stamps_[slot] != stamp) {
-          stamps_[slot] = stamp;
-          target.miss(slot, static_cast<int>(group));
-          ++updates_;
+      // A hit ray's end cell holds its hit; a cleared ray misses its end cell too.
+      walkStorageCells(ray.origin, ray.end, inverse_resolution, window, !ray.hit, [&](int slot) {
+        if (stamps[slot] != stamp) {
+          stamps[slot] = stamp;
+          writer.miss(slot);
+          ++updates;
         }
-        if (traversal.atEnd()) break;
-        const int axis = traversal.next();
-        if (axis == 0) {
-          x += traversal.step(0);
-          if (x == size) x = 0;
-          if (x < 0) x = size - 1;
-        } else {
-          y += traversal.step(1);
-          if (y == size) y = 0;
-          if (y < 0) y = size - 1;
-        }
-      }
+      });
     }
   }
+  updates_ = updates;
 }
 
 }  // namespace rfm

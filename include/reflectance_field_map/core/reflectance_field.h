@@ -40,7 +40,53 @@ class ReflectanceField {
   void applyHit(const CellIndex& cell, int bin) { applyHitAt(window_.storageIndex(cell), bin); }
   void applyMiss(const CellIndex& cell, int bin) { applyMissAt(window_.storageIndex(cell), bin); }
 
-  // Fast path for the inserter: storage index = window().storageIndex(cell).
+  // Writes one theta slice with everything it needs held locally: int8 stores may alias any
+  // member, so going through `this` would reload them after every update.
+  class SliceWriter {
+   public:
+    void hit(int slot) {
+      int8_t& v = bins_[slot];
+      const int old = v;
+      const int updated = old + hit_step_ > max_ ? max_ : old + hit_step_;
+      v = static_cast<int8_t>(updated);
+      hit_flags_[slot] = 1;
+      if (old <= 0 && updated > 0) masks_[static_cast<size_t>(slot) * mask_words_] |= bit_;
+      if (old < 0 && updated >= 0) --missed_[slot];
+    }
+    void miss(int slot) {
+      int8_t& v = bins_[slot];
+      const int old = v;
+      const int updated = old + miss_step_ < min_ ? min_ : old + miss_step_;
+      v = static_cast<int8_t>(updated);
+      if (old > 0 && updated <= 0) masks_[static_cast<size_t>(slot) * mask_words_] &= ~bit_;
+      if (old >= 0 && updated < 0) ++missed_[slot];
+    }
+
+   private:
+    friend class ReflectanceField;
+    int8_t* bins_;
+    uint64_t* masks_;  // points at this bin's word of slot 0
+    uint16_t* missed_;
+    uint8_t* hit_flags_;
+    uint64_t bit_;
+    int mask_words_, hit_step_, miss_step_, min_, max_;
+  };
+  SliceWriter sliceWriter(int bin) {
+    SliceWriter w;
+    w.bins_ = &bins_[static_cast<size_t>(bin) * plane_];
+    w.masks_ = &reflective_masks_[bin >> 6];
+    w.missed_ = missed_bins_.data();
+    w.hit_flags_ = hit_since_tick_.data();
+    w.bit_ = uint64_t{1} << (bin & 63);
+    w.mask_words_ = mask_words_;
+    w.hit_step_ = log_odds_.hitStep();
+    w.miss_step_ = log_odds_.missStep();
+    w.min_ = log_odds_.minValue();
+    w.max_ = log_odds_.maxValue();
+    return w;
+  }
+
+  // Single updates by storage index = window().storageIndex(cell).
   void applyHitAt(int storage_index, int bin) {
     int8_t& v = bins_[static_cast<size_t>(bin) * plane_ + storage_index];
     const int8_t old = v;

@@ -21,10 +21,19 @@ class RollingWindow {
   bool contains(const CellIndex& cell) const { return box().contains(cell); }
 
   int storageCoordinate(int cell) const { return positiveMod(cell, sizeCells()); }
-  // Linear storage index of a cell inside the window: y * size + x.
-  int storageIndex(const CellIndex& cell) const {
-    return storageCoordinate(cell.y()) * sizeCells() + storageCoordinate(cell.x());
+  // Storage is tile-major: the cells of one tile are contiguous (row-major inside the tile), so
+  // a ray touches few cache lines and a tile is archived or cleared as one block.
+  int storageSlot(int storage_x, int storage_y) const {
+    return ((((storage_y >> tile_shift_) * tiles_per_side_ + (storage_x >> tile_shift_))
+             << (2 * tile_shift_)) |
+            ((storage_y & tile_mask_) << tile_shift_) | (storage_x & tile_mask_));
   }
+  // Storage slot of a cell inside the window.
+  int storageIndex(const CellIndex& cell) const {
+    return storageSlot(storageCoordinate(cell.x()), storageCoordinate(cell.y()));
+  }
+  // First slot of a tile inside the window: its cells are [first, first + tileCells()^2).
+  int tileFirstSlot(const TileIndex& tile) const { return storageIndex(tile * tile_cells_); }
   TileIndex tileOf(const CellIndex& cell) const {
     return {floorDiv(cell.x(), tile_cells_), floorDiv(cell.y(), tile_cells_)};
   }
@@ -41,7 +50,9 @@ class RollingWindow {
   void setOrigin(const TileIndex& origin_tile) { origin_tile_ = origin_tile; }
 
  private:
-  int tile_cells_;
+  int tile_cells_;  // a power of two
+  int tile_shift_;
+  int tile_mask_;
   int tiles_per_side_;
   TileIndex origin_tile_{0, 0};
 };

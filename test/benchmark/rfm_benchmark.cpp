@@ -1,0 +1,130 @@
+// Insertion, motion removal and whole-update benchmarks on the default active region
+// (10 m, 5 cm, 2 deg) with 1081-beam UTM-30LX scans. Results: test/benchmark/RESULTS.md.
+
+#include "reflectance_field_map/core/mapper.h"
+#include "reflectance_field_map/core/plain_occupancy_grid.h"
+#include "reflectance_field_map/core/scan_inserter.h"
+
+#include "indoor_scene.h"
+
+#include <benchmark/benchmark.h>
+#include <octomap/octomap.h>
+
+namespace rfm {
+namespace {
+
+constexpr int kPoses = 400;  // 10 m of corridor, 800 scans
+
+const std::vector<benchmarking::BenchmarkScan>& scans() {
+  static const auto all = benchmarking::indoorScans(kPoses, InsertionOptions());
+  return all;
+}
+
+void reportRays(benchmark::State& state) {
+  size_t rays = 0, cells = 0;
+  for (const auto& s : scans()) {
+    rays += s.rays.size();
+    for (const Ray& r : s.rays)
+      cells += static_cast<size_t>((r.end - r.origin).norm() / 0.05);
+  }
+  state.counters["rays_per_scan"] = static_cast<double>(rays) / scans().size();
+  state.counters["mean_ray_cells"] = static_cast<double>(cells) / rays;
+}
+
+void BM_RfmInsert(benchmark::State& state) {
+  const MapperOptions options;
+  ReflectanceField field(options.grid, options.log_odds, options.active_region);
+  ScanInserter inserter;
+  size_t i = 0;
+  for (auto _ : state) {
+    const auto& s = scans()[i++ % scans().size()];
+    field.recenter(s.scan.robot_pose.position);
+    benchmark::DoNotOptimize(inserter.insert(s.rays, field));
+  }
+  reportRays(state);
+  state.counters["active_region_MB"] = field.activeBytes() / 1e6;
+}
+BENCHMARK(BM_RfmInsert)->Unit(benchmark::kMillisecond);
+
+void BM_PlainGridInsert(benchmark::State& state) {
+  const MapperOptions options;
+  PlainOccupancyGrid grid(options.grid, options.log_odds, options.active_region);
+  size_t i = 0;
+  for (auto _ : state) {
+    const auto& s = scans()[i++ % scans().size()];
+    grid.recenter(s.scan.robot_pose.position);
+    benchmark::DoNotOptimize(grid.insert(s.rays));
+  }
+  reportRays(state);
+}
+BENCHMARK(BM_PlainGridInsert)->Unit(benchmark::kMillisecond);
+
+// OctoMap inserting the same rays as a planar slice (z = 0), with its own per-scan
+// de-duplication (insertPointCloud: occupied wins) and max-range clearing for no-returns.
+void BM_OctomapInsert(benchmark::State& state) {
+  octomap::OcTree tree(0.05);
+  std::vector<octomap::Pointcloud> clouds;
+  std::vector<octomap::point3d> origins;
+  for (const auto& s : scans()) {
+    octomap::Pointcloud cloud;
+    const InsertionOptions insertion;
+    for (const Ray& r : s.rays) {
+      // No-returns become points at the clearing distance beyond max range: cleared, not hit.
+      const Eigen::Vector2d end = r.hit ? r.end : r.origin + (r.end - r.origin) * (1.0 + 1e-3);
+      cloud.push_back(static_cast<float>(end.x()), static_cast<float>(end.y()), 0.0f);
+    }
+    clouds.push_back(std::move(cloud));
+    origins.emplace_back(static_cast<float>(s.scan.sensor_pose.position.x()),
+                         static_cast<float>(s.scan.sensor_pose.position.y()), 0.0f);
+  }
+  size_t i = 0;
+  for (auto _ : state) {
+    const size_t k = i++ % clouds.size();
+    tree.insertPointCloud(clouds[k], origins[k], InsertionOptions().clearing_distance);
+  }
+  reportRays(state);
+}
+BENCHMARK(BM_OctomapInsert)->Unit(benchmark::kMillisecond);
+
+// Mapper driven as online: a filled field (two passes of the corridor), then the stage alone.
+Mapper& filledMapper() {
+  static Mapper mapper{MapperOptions()};
+  static bool filled = false;
+  if (!filled) {
+    for (const auto& s : scans())
+      mapper.addScan(s.scan);
+    mapper.removeMotion();
+    filled = true;
+  }
+  return mapper;
+}
+
+void BM_MotionRemoval(benchmark::State& state) {
+  Mapper& mapper = filledMapper();
+  for (auto _ : state)
+    benchmark::DoNotOptimize(mapper.removeMotion());
+  state.counters["static_cells"] = static_cast<double>(mapper.stats().occupied_cells);
+}
+BENCHMARK(BM_MotionRemoval)->Unit(benchmark::kMillisecond);
+
+// The whole online update per scan: reflection check + insertion + motion removal at 2 Hz with
+// two 40 Hz lidars (one removal every 40 scans), amortised.
+void BM_WholeUpdatePerScan(benchmark::State& state) {
+  Mapper mapper{MapperOptions()};
+  size_t i = 0;
+  for (const auto& s : scans())
+    mapper.addScan(s.scan);
+  for (auto _ : state) {
+    const auto& s = scans()[i % scans().size()];
+    TimedScan scan = s.scan;
+    scan.stamp += 100.0 + 0.0125 * static_cast<double>(i);
+    benchmark::DoNotOptimize(mapper.addScan(scan));
+    if (++i % 40 == 0) mapper.removeMotion();
+  }
+}
+BENCHMARK(BM_WholeUpdatePerScan)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace rfm
+
+BENCHMARK_MAIN();
