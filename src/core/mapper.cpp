@@ -3,6 +3,7 @@
 #include "reflectance_field_map/core/motion_removal.h"
 #include "reflectance_field_map/core/occupancy.h"
 #include "reflectance_field_map/core/ray_classification.h"
+#include "reflectance_field_map/core/ray_insertion.h"
 #include "reflectance_field_map/core/scan_inserter.h"
 
 #include <chrono>
@@ -57,14 +58,6 @@ Mapper::Mapper(const MapperOptions& options)
 
 Mapper::~Mapper() = default;
 
-bool Mapper::reflectiveAlong(const CellIndex& cell, int bin) const {
-  if (!field_.inActiveRegion(cell)) return false;
-  // One bin either side: a wall grazed at a shallow angle is hit in neighbouring directions.
-  const int bins = field_.geometry().thetaBins();
-  return field_.isReflective(cell, bin) || field_.isReflective(cell, (bin + 1) % bins) ||
-         field_.isReflective(cell, (bin + bins - 1) % bins);
-}
-
 CellClass Mapper::cellClass(const CellIndex& cell) const {
   if (field_.inActiveRegion(cell)) return impl_->classes[field_.window().storageIndex(cell)];
   return map_.get(cell);
@@ -95,22 +88,12 @@ ScanUpdate Mapper::addScan(const TimedScan& scan) {
   scanToRays(scan.scan, scan.sensor_pose, options_.insertion, rays);
   for (const Ray& ray : rays)
     update.labels[ray.beam] = RayLabel::kKept;
+  clipToActiveRegion(rays);
 
   auto reflection_start = std::chrono::steady_clock::now();
   if (options_.reflection_removal.reflection_removal_enabled && impl_->blocking_cells > 0) {
-    auto class_of = [this](const CellIndex& cell) { return cellClass(cell); };
-    auto reflective_near = [this](const CellIndex& cell, int bin) {
-      return reflectiveAlong(cell, bin);
-    };
     for (Ray& ray : rays) {
-      const double along = firstPassThroughDistance(
-          ray, field_.geometry(), options_.reflection_removal.penetration_tolerance, class_of,
-          reflective_near);
-      if (along < 0.0) continue;
-      // Evidence beyond the blocking cell is discarded: misses up to it, no hit.
-      const Eigen::Vector2d direction = (ray.end - ray.origin).normalized();
-      ray.end = ray.origin + direction * (along + 0.5 * field_.geometry().resolution());
-      ray.hit = false;
+      if (!truncateAtGlass(ray)) continue;
       update.labels[ray.beam] = RayLabel::kReflection;
       ++impl_->stats.reflection_rays;
     }
@@ -210,25 +193,12 @@ void Mapper::revertEvidenceBehindGlass() {
   // Online Alg. 3: buffered scans whose rays pass through glass found since they were inserted
   // added evidence beyond it. Replay each such scan's de-duplicated updates with and without
   // that evidence and apply the difference (reverts stop at the prior, see revertHitAt).
-  auto class_of = [this](const CellIndex& cell) { return cellClass(cell); };
-  auto reflective_near = [this](const CellIndex& cell, int bin) {
-    return reflectiveAlong(cell, bin);
-  };
-  const GridGeometry& geometry = field_.geometry();
   std::vector<BinUpdate> before, after;
   for (BufferedScan& buffered : impl_->buffer) {
     std::vector<Ray> truncated = buffered.rays;
     bool changed = false;
-    for (Ray& ray : truncated) {
-      const double along =
-          firstPassThroughDistance(ray, geometry, options_.reflection_removal.penetration_tolerance,
-                                   class_of, reflective_near);
-      if (along < 0.0) continue;
-      ray.end =
-          ray.origin + (ray.end - ray.origin).normalized() * (along + 0.5 * geometry.resolution());
-      ray.hit = false;
-      changed = true;
-    }
+    for (Ray& ray : truncated)
+      changed |= truncateAtGlass(ray);
     if (!changed) continue;
     impl_->inserter.collectUpdates(buffered.rays, field_, before);
     impl_->inserter.collectUpdates(truncated, field_, after);
@@ -273,23 +243,74 @@ std::vector<RayLabel> Mapper::labelScan(const TimedScan& scan, bool final_map) c
   std::vector<Ray> rays;
   scanToRays(scan.scan, scan.sensor_pose, options_.insertion, rays);
   auto class_of = [this](const CellIndex& cell) { return cellClass(cell); };
-  auto reflective_near = [this](const CellIndex& cell, int bin) {
-    return reflectiveAlong(cell, bin);
-  };
   const bool check_reflections =
       options_.reflection_removal.reflection_removal_enabled && impl_->blocking_cells > 0;
+  const CellBox box = field_.activeBox();
   for (const Ray& ray : rays) {
     if (!ray.hit) continue;  // no return: nothing to keep or remove
-    if (check_reflections &&
-        firstPassThroughDistance(ray, field_.geometry(),
-                                 options_.reflection_removal.penetration_tolerance, class_of,
-                                 reflective_near) >= 0.0) {
+    Ray inside = ray;
+    if (check_reflections && clipRayToBox(box, field_.geometry().resolution(), inside) &&
+        passThroughDistance(inside) >= 0.0) {
       labels[ray.beam] = RayLabel::kReflection;
       continue;
     }
     labels[ray.beam] = labelEndpoint(field_.geometry().cellOf(ray.end), final_map, class_of);
   }
   return labels;
+}
+
+void Mapper::clipToActiveRegion(std::vector<Ray>& rays) const {
+  const CellBox box = field_.activeBox();
+  const double resolution = field_.geometry().resolution();
+  const double radius = options_.active_region.active_region_radius;
+  size_t kept = 0;
+  for (Ray& ray : rays) {
+    // Evidence only within the active-region radius of the sensor, live and in batch alike.
+    const Eigen::Vector2d delta = ray.end - ray.origin;
+    const double length = delta.norm();
+    if (length > radius) {
+      ray.end = ray.origin + delta * (radius / length);
+      ray.hit = false;
+    }
+    if (clipRayToBox(box, resolution, ray)) rays[kept++] = ray;
+  }
+  rays.resize(kept);
+}
+
+double Mapper::passThroughDistance(const Ray& ray) const {
+  const double tolerance = options_.reflection_removal.penetration_tolerance;
+  PassThroughDetector detector(ray, field_.geometry(), tolerance);
+  // Cells within the tolerance of the end never decide: walk only up to there.
+  const Eigen::Vector2d delta = ray.end - ray.origin;
+  const double length = delta.norm();
+  if (length <= tolerance) return -1.0;
+  const Eigen::Vector2d last = ray.origin + delta * ((length - tolerance) / length);
+  const int bins = field_.geometry().thetaBins();
+  walkWindowCells(ray.origin, last, field_.geometry().inverseResolution(), field_.window(), true,
+                  [&](int slot, int x, int y) {
+                    const CellClass c = impl_->classes[slot];
+                    if (c == CellClass::kFree || c == CellClass::kUnknown) {
+                      if (!detector.blocked()) return true;  // the common case, no arithmetic
+                    }
+                    return detector.visit({x, y}, c, [&](int bin) {
+                      // One bin either side: a wall grazed at a shallow angle is hit in
+                      // neighbouring directions.
+                      return field_.isReflectiveAt(slot, bin) ||
+                             field_.isReflectiveAt(slot, (bin + 1) % bins) ||
+                             field_.isReflectiveAt(slot, (bin + bins - 1) % bins);
+                    });
+                  });
+  return detector.distance();
+}
+
+bool Mapper::truncateAtGlass(Ray& ray) const {
+  const double along = passThroughDistance(ray);
+  if (along < 0.0) return false;
+  // Evidence beyond the blocking cell is discarded: misses up to it, no hit.
+  const Eigen::Vector2d direction = (ray.end - ray.origin).normalized();
+  ray.end = ray.origin + direction * (along + 0.5 * field_.geometry().resolution());
+  ray.hit = false;
+  return true;
 }
 
 void Mapper::restartEvidence() {

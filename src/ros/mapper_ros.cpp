@@ -325,7 +325,7 @@ void MapperRos::publishFullMapLocked() {
   map_pub_.publish(toOccupancyGrid(map, box, params_.mapper.grid.resolution, params_.fixed_frame,
                                    ros::Time::now()));
   // The full map carries every change so far.
-  const_cast<rfm::GlobalMap2D&>(map).takeChangedBox();
+  mapper_->takeMapChanges();
   published_box_ = box;
   map_published_ = true;
   map_changed_ = false;
@@ -333,7 +333,7 @@ void MapperRos::publishFullMapLocked() {
 }
 
 void MapperRos::publishMapUpdateLocked() {
-  rfm::GlobalMap2D& map = const_cast<rfm::GlobalMap2D&>(mapper_->map());
+  const rfm::GlobalMap2D& map = mapper_->map();
   const rfm::CellBox bounds = map.bounds();
   const bool same_geometry =
       map_published_ && bounds.min == published_box_.min && bounds.max == published_box_.max;
@@ -342,7 +342,7 @@ void MapperRos::publishMapUpdateLocked() {
     publishFullMapLocked();
     return;
   }
-  const rfm::CellBox changed = map.takeChangedBox().intersect(published_box_);
+  const rfm::CellBox changed = mapper_->takeMapChanges().intersect(published_box_);
   if (changed.empty()) return;
   const auto start = std::chrono::steady_clock::now();
   map_update_pub_.publish(

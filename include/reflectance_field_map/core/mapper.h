@@ -11,6 +11,7 @@
 #include <iosfwd>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace rfm {
@@ -83,6 +84,10 @@ class Mapper {
 
   // Classes of the explored map (global, survives the active region moving on).
   const GlobalMap2D& map() const { return map_; }
+  // Box of map cells changed since the last call (for incremental map updates).
+  CellBox takeMapChanges() { return map_.takeChangedBox(); }
+  // Hands the map over (the mapper's map is empty afterwards).
+  GlobalMap2D releaseMap() { return std::exchange(map_, GlobalMap2D()); }
   const ReflectanceField& field() const { return field_; }
   // Class of a cell: from the active region when inside it, else from the global map.
   CellClass cellClass(const CellIndex& cell) const;
@@ -111,8 +116,13 @@ class Mapper {
   void undo(const BinUpdate& update);
   void redo(const BinUpdate& update);
   void tickPersistenceIfDue(double stamp);
-  // The cell returns rays travelling in `bin` (a surface hit there is not passed through).
-  bool reflectiveAlong(const CellIndex& cell, int bin) const;
+  // Limits rays to the active-region radius around their sensor and to the window (the walks
+  // below need rays inside it); a ray cut short loses its hit.
+  void clipToActiveRegion(std::vector<Ray>& rays) const;
+  // Alg. 3 check of a ray inside the window against the current classes (PassThroughDetector).
+  double passThroughDistance(const Ray& ray) const;
+  // Cuts a ray that passes through glass just past the glass cell; false if it does not.
+  bool truncateAtGlass(Ray& ray) const;
 
   MapperOptions options_;
   ReflectanceField field_;

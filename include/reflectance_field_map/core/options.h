@@ -76,7 +76,7 @@ struct ReflectionRemovalOptions {
   bool reflection_removal_enabled = true;
   // A ray may end this far beyond a glass/static cell before it counts as passing through it.
   double penetration_tolerance = 0.15;  // m
-  int max_reflection_iterations = 6;    // batch re-processing passes
+  int max_reflection_iterations = 3;    // batch re-processing passes (paper: 1 suffices)
   int scan_buffer_size = 400;           // online ring buffer of recent scans (per mapper)
   void validate() const;
 };

@@ -14,40 +14,82 @@ inline bool blocksRays(CellClass c) {
   return c == CellClass::kGlass || c == CellClass::kMetal || c == CellClass::kStatic;
 }
 
-// Reflection check of Alg. 3: walks the ray and returns the distance (m, along the ray) of the
-// first blocking cell that the ray passes through, or a negative value. A blocking cell is glass
-// or metal, or static and not reflective in the ray's direction (+-1 bin, via reflective_near).
-// Passing through means crossing it: the ray comes out into a non-obstacle cell more than
-// `penetration_tolerance` before its end. A ray grazing along a wall stays inside the wall's
-// cells up to its end, and a ray ending on a surface ends within the tolerance: neither counts.
-//   class_of(cell) -> CellClass; reflective_near(cell, bin) -> bool.
+// Reflection check of Alg. 3, fed cell by cell along a ray: finds the first blocking cell the
+// ray passes through. A blocking cell is glass or metal, or static and not reflective in the
+// ray's direction (reflective_near), that the ray passes through near its centre (not a clipped
+// corner). Passing through means crossing it: the ray comes out into a
+// non-obstacle cell more than `penetration_tolerance` before its end. A ray grazing along a wall
+// stays inside the wall's cells up to its end, and a ray ending on a surface ends within the
+// tolerance: neither counts.
+class PassThroughDetector {
+ public:
+  PassThroughDetector(const Ray& ray, const GridGeometry& geometry, double penetration_tolerance)
+      : geometry_(geometry), origin_(ray.origin), bin_(geometry.binOf(ray.angle)) {
+    const Eigen::Vector2d delta = ray.end - ray.origin;
+    const double length = delta.norm();
+    direction_ = length > 0.0 ? Eigen::Vector2d(delta / length) : Eigen::Vector2d(1.0, 0.0);
+    last_candidate_ = length - penetration_tolerance;
+    if (last_candidate_ < 0.0) decided_ = true;
+  }
+
+  // Feeds the next cell; false once decided (stop walking). reflective_near(bin) is asked only
+  // for static cells.
+  template <typename ReflectiveNear>
+  bool visit(const CellIndex& cell, CellClass c, ReflectiveNear&& reflective_near) {
+    if (decided_) return false;
+    const double along = (geometry_.cellCenter(cell) - origin_).dot(direction_);
+    if (along > last_candidate_) {
+      decided_ = true;
+      blocked_at_ = -1.0;
+      return false;
+    }
+    if (blocked_at_ < 0.0) {
+      const bool blocking = c == CellClass::kGlass || c == CellClass::kMetal ||
+                            (c == CellClass::kStatic && !reflective_near(bin_));
+      if (blocking && passesNearCentre(cell)) blocked_at_ = along;
+    } else if (!isObstacle(c)) {
+      decided_ = true;  // came out on the other side
+      return false;
+    }
+    return true;
+  }
+
+  bool blocked() const { return blocked_at_ >= 0.0; }
+
+  // Distance (m, along the ray) of the blocking cell passed through, or negative. Complete once
+  // the walk reached the ray's end or visit() returned false.
+  double distance() const { return decided_ ? blocked_at_ : -1.0; }
+
+ private:
+  // A ray crossing a one-cell-thick surface passes within half a cell of the centre of one of
+  // its cells; a ray that only clips the corner of a structure's end cell never does.
+  bool passesNearCentre(const CellIndex& cell) const {
+    const Eigen::Vector2d offset = geometry_.cellCenter(cell) - origin_;
+    const double distance = std::abs(offset.x() * direction_.y() - offset.y() * direction_.x());
+    return distance <= 0.5 * geometry_.resolution();
+  }
+
+  const GridGeometry& geometry_;
+  Eigen::Vector2d origin_;
+  Eigen::Vector2d direction_;
+  int bin_;
+  double last_candidate_ = 0.0;
+  double blocked_at_ = -1.0;
+  bool decided_ = false;
+};
+
+// The check over global cells: class_of(cell) -> CellClass, reflective_near(cell, bin) -> bool.
 template <typename ClassOf, typename ReflectiveNear>
 double firstPassThroughDistance(const Ray& ray, const GridGeometry& geometry,
                                 double penetration_tolerance, ClassOf&& class_of,
                                 ReflectiveNear&& reflective_near) {
-  const Eigen::Vector2d delta = ray.end - ray.origin;
-  const double length = delta.norm();
-  if (length <= penetration_tolerance) return -1.0;
-  const Eigen::Vector2d direction = delta / length;
-  const int bin = geometry.binOf(ray.angle);
-  const double last_candidate = length - penetration_tolerance;
-  double blocked_at = -1.0;
-  GridRayTraversal traversal(ray.origin, ray.end, geometry.inverseResolution());
-  while (true) {
-    const CellIndex& cell = traversal.cell();
-    const double along = (geometry.cellCenter(cell) - ray.origin).dot(direction);
-    if (along > last_candidate) return -1.0;
-    const CellClass c = class_of(cell);
-    if (blocked_at < 0.0) {
-      const bool blocking = c == CellClass::kGlass || c == CellClass::kMetal ||
-                            (c == CellClass::kStatic && !reflective_near(cell, bin));
-      if (blocking) blocked_at = along;
-    } else if (!isObstacle(c)) {
-      return blocked_at;  // came out on the other side
-    }
-    if (traversal.atEnd()) return -1.0;
-    traversal.next();
-  }
+  PassThroughDetector detector(ray, geometry, penetration_tolerance);
+  forEachCellOnRayWhile(
+      ray.origin, ray.end, geometry.inverseResolution(), [&](const CellIndex& cell) {
+        return detector.visit(cell, class_of(cell),
+                              [&](int bin) { return reflective_near(cell, bin); });
+      });
+  return detector.distance();
 }
 
 // How a ray's endpoint is judged against a map (paper Sec. VI-A): kept when the end cell, or one

@@ -45,15 +45,17 @@ class DeduplicatingRayInserter {
 
 // The hot loop: walks a ray's cells in window storage coordinates with everything in registers
 // (the generic GridRayTraversal keeps per-axis arrays, which costs a store-to-load round trip per
-// step). Same cells, same order, same drift guard; calls visit(slot) for the first `cells`.
+// step). Same cells, same order, same drift guard as GridRayTraversal. Calls
+// visit(slot, cell_x, cell_y) for each cell up to the end cell (included when `include_end`);
+// the walk stops early when visit returns false. The ray must lie inside the window.
 template <typename Visit>
-inline void walkStorageCells(const Eigen::Vector2d& start, const Eigen::Vector2d& end,
-                             double inverse_resolution, const RollingWindow& window,
-                             bool include_end, Visit&& visit) {
+inline void walkWindowCells(const Eigen::Vector2d& start, const Eigen::Vector2d& end,
+                            double inverse_resolution, const RollingWindow& window,
+                            bool include_end, Visit&& visit) {
   const int size = window.sizeCells();
   const double fx = start.x() * inverse_resolution, fy = start.y() * inverse_resolution;
   const double ex = end.x() * inverse_resolution, ey = end.y() * inverse_resolution;
-  const int cx = static_cast<int>(std::floor(fx)), cy = static_cast<int>(std::floor(fy));
+  int cx = static_cast<int>(std::floor(fx)), cy = static_cast<int>(std::floor(fy));
   const double dx = ex - fx, dy = ey - fy;
   int remaining_x = std::abs(static_cast<int>(std::floor(ex)) - cx);
   int remaining_y = std::abs(static_cast<int>(std::floor(ey)) - cy);
@@ -66,16 +68,18 @@ inline void walkStorageCells(const Eigen::Vector2d& start, const Eigen::Vector2d
   int x = positiveMod(cx, size), y = positiveMod(cy, size);
   int cells = remaining_x + remaining_y + (include_end ? 1 : 0);
   while (cells-- > 0) {
-    visit(window.storageSlot(x, y));
+    if (!visit(window.storageSlot(x, y), cx, cy)) return;
     // Parametric choice, overruled when that axis has no steps left (drift guard).
     if (t_max_x < t_max_y ? remaining_x > 0 : remaining_y == 0) {
       t_max_x += t_delta_x;
       --remaining_x;
+      cx += step_x;
       x += step_x;
       x = x == size ? 0 : (x < 0 ? size - 1 : x);
     } else {
       t_max_y += t_delta_y;
       --remaining_y;
+      cy += step_y;
       y += step_y;
       y = y == size ? 0 : (y < 0 ? size - 1 : y);
     }
@@ -110,13 +114,15 @@ void DeduplicatingRayInserter::insert(const RollingWindow& window, double invers
     for (uint32_t k = begin; k < end; ++k) {
       const Ray& ray = rays[order[k]];
       // A hit ray's end cell holds its hit; a cleared ray misses its end cell too.
-      walkStorageCells(ray.origin, ray.end, inverse_resolution, window, !ray.hit, [&](int slot) {
-        if (stamps[slot] != stamp) {
-          stamps[slot] = stamp;
-          writer.miss(slot);
-          ++updates;
-        }
-      });
+      walkWindowCells(ray.origin, ray.end, inverse_resolution, window, !ray.hit,
+                      [&](int slot, int, int) {
+                        if (stamps[slot] != stamp) {
+                          stamps[slot] = stamp;
+                          writer.miss(slot);
+                          ++updates;
+                        }
+                        return true;
+                      });
     }
   }
   updates_ = updates;

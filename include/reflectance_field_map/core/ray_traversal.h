@@ -75,4 +75,16 @@ void forEachCellOnRay(const Eigen::Vector2d& start, const Eigen::Vector2d& end,
   }
 }
 
+// Like forEachCellOnRay, stopping as soon as visit(cell) returns false.
+template <typename Visitor>
+void forEachCellOnRayWhile(const Eigen::Vector2d& start, const Eigen::Vector2d& end,
+                           double inverse_resolution, Visitor&& visit) {
+  GridRayTraversal traversal(start, end, inverse_resolution);
+  if (!visit(traversal.cell())) return;
+  while (!traversal.atEnd()) {
+    traversal.next();
+    if (!visit(traversal.cell())) return;
+  }
+}
+
 }  // namespace rfm

@@ -119,6 +119,11 @@ class ReflectanceField {
   }
   int reflectiveBins(const CellIndex& cell) const;
   int missedBins(const CellIndex& cell) const { return missed_bins_[window_.storageIndex(cell)]; }
+  bool isReflectiveAt(int storage_index, int bin) const {
+    return (reflective_masks_[static_cast<size_t>(storage_index) * mask_words_ + (bin >> 6)] >>
+            (bin & 63)) &
+           1u;
+  }
   bool isReflective(const CellIndex& cell, int bin) const {
     const uint64_t* mask = reflectiveMask(cell);
     return (mask[bin >> 6] >> (bin & 63)) & 1u;
