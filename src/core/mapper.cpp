@@ -147,37 +147,37 @@ MotionRemovalSummary Mapper::removeMotion() {
     // Plain eq. 5 projection: occupied, free or unknown.
     box_classes.resize(static_cast<size_t>(box.width()) * box.height());
     size_t i = 0, free_cells = 0, occupied = 0;
-    for (int y = box.min.y(); y < box.max.y(); ++y) {
-      for (int x = box.min.x(); x < box.max.x(); ++x, ++i) {
-        box_classes[i] = impl_->rule.classify(field_, {x, y});
-        free_cells += box_classes[i] == CellClass::kFree;
-        occupied += box_classes[i] == CellClass::kOccupied;
-      }
-    }
+    field_.window().forEachCell(box, [&](int, int, int slot) {
+      const uint64_t* mask = field_.reflectiveMaskAt(slot);
+      int reflective = 0;
+      for (int w = 0; w < field_.maskWords(); ++w)
+        reflective += __builtin_popcountll(mask[w]);
+      const CellClass c = impl_->rule.classify(reflective, field_.missedBinsAt(slot));
+      box_classes[i++] = c;
+      free_cells += c == CellClass::kFree;
+      occupied += c == CellClass::kOccupied;
+    });
     summary.static_cells = occupied;
     impl_->stats.free_cells = free_cells;
   }
 
   // New glass: cells now blocking that were not before.
-  size_t i = 0, blocking = 0;
-  std::vector<CellIndex> new_blocking;
-  for (int y = box.min.y(); y < box.max.y(); ++y) {
-    for (int x = box.min.x(); x < box.max.x(); ++x, ++i) {
-      CellClass& stored = impl_->classes[field_.window().storageIndex({x, y})];
-      const CellClass now = box_classes[i];
-      if (blocksRays(now)) {
-        ++blocking;
-        if (!blocksRays(stored) && now != CellClass::kStatic) new_blocking.push_back({x, y});
-      }
-      stored = now;
+  size_t i = 0, blocking = 0, new_blocking = 0;
+  field_.window().forEachCell(box, [&](int, int, int slot) {
+    CellClass& stored = impl_->classes[slot];
+    const CellClass now = box_classes[i++];
+    if (blocksRays(now)) {
+      ++blocking;
+      new_blocking += !blocksRays(stored) && now != CellClass::kStatic;
     }
-  }
+    stored = now;
+  });
   impl_->blocking_cells = blocking;
   map_.assign(box, [&](const CellIndex& cell) {
     return box_classes[static_cast<size_t>(cell.y() - box.min.y()) * box.width() +
                        (cell.x() - box.min.x())];
   });
-  summary.new_glass = !new_blocking.empty();
+  summary.new_glass = new_blocking > 0;
   if (summary.new_glass && options_.reflection_removal.reflection_removal_enabled) {
     revertEvidenceBehindGlass();
   }
@@ -277,7 +277,7 @@ void Mapper::clipToActiveRegion(std::vector<Ray>& rays) const {
   rays.resize(kept);
 }
 
-double Mapper::passThroughDistance(const Ray& ray) const {
+double Mapper::passThroughDistance(const Ray& ray, CellClass* blocker) const {
   const double tolerance = options_.reflection_removal.penetration_tolerance;
   PassThroughDetector detector(ray, field_.geometry(), tolerance);
   // Cells within the tolerance of the end never decide: walk only up to there.
@@ -300,16 +300,23 @@ double Mapper::passThroughDistance(const Ray& ray) const {
                              field_.isReflectiveAt(slot, (bin + bins - 1) % bins);
                     });
                   });
+  if (blocker != nullptr) *blocker = detector.blocker();
   return detector.distance();
 }
 
 bool Mapper::truncateAtGlass(Ray& ray) const {
-  const double along = passThroughDistance(ray);
+  CellClass blocker = CellClass::kUnknown;
+  const double along = passThroughDistance(ray, &blocker);
   if (along < 0.0) return false;
-  // Evidence beyond the blocking cell is discarded: misses up to it, no hit.
-  const Eigen::Vector2d direction = (ray.end - ray.origin).normalized();
-  ray.end = ray.origin + direction * (along + 0.5 * field_.geometry().resolution());
   ray.hit = false;
+  if (blocker == CellClass::kGlass) {
+    // Glass transmits straight: the cells crossed beyond it are free; only the return is dropped.
+    ray.through_glass = true;
+  } else {
+    // A mirror or metal folds the ray: the path beyond is virtual. Misses up to the surface only.
+    const Eigen::Vector2d direction = (ray.end - ray.origin).normalized();
+    ray.end = ray.origin + direction * (along + 0.5 * field_.geometry().resolution());
+  }
   return true;
 }
 

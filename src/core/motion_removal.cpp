@@ -13,37 +13,39 @@ void MotionRemover::collectRuns(const ReflectanceField& field, const CellBox& bo
   const int bins = field.geometry().thetaBins();
   const int words = field.maskWords();
   runs_.clear();
-  cell_first_run_.assign(static_cast<size_t>(box.width()) * box.height() + 1, 0);
+  slots_.resize(static_cast<size_t>(box.width()) * box.height());
+  cell_first_run_.assign(slots_.size() + 1, 0);
   size_t local = 0;
-  for (int y = box.min.y(); y < box.max.y(); ++y) {
-    for (int x = box.min.x(); x < box.max.x(); ++x, ++local) {
-      cell_first_run_[local] = static_cast<uint32_t>(runs_.size());
-      const uint64_t* mask = field.reflectiveMask({x, y});
-      bool any = false;
-      for (int w = 0; w < words; ++w)
-        any |= mask[w] != 0;
-      if (!any) continue;
-      const size_t first = runs_.size();
-      int bin = 0;
-      while (bin < bins) {
-        const bool set = (mask[bin >> 6] >> (bin & 63)) & 1u;
-        if (!set) {
-          ++bin;
-          continue;
-        }
-        const int start = bin;
-        while (bin < bins && ((mask[bin >> 6] >> (bin & 63)) & 1u))
-          ++bin;
-        runs_.push_back({static_cast<int16_t>(start), static_cast<int16_t>(bin - start)});
+  field.window().forEachCell(box, [&](int, int, int slot) {
+    slots_[local] = slot;
+    cell_first_run_[local++] = static_cast<uint32_t>(runs_.size());
+    const uint64_t* mask = field.reflectiveMaskAt(slot);
+    bool any = false;
+    for (int w = 0; w < words; ++w)
+      any |= mask[w] != 0;
+    if (!any) return;
+    const size_t first = runs_.size();
+    int bin = 0;
+    while (bin < bins) {
+      const uint64_t word = mask[bin >> 6] >> (bin & 63);
+      if (word == 0) {  // skip to the next word
+        bin = (bin | 63) + 1;
+        continue;
       }
-      // A run ending at the last bin continues into the one starting at bin 0.
-      if (runs_.size() - first >= 2 && runs_[first].first_bin == 0 &&
-          runs_.back().first_bin + runs_.back().length == bins) {
-        runs_.back().length = static_cast<int16_t>(runs_.back().length + runs_[first].length);
-        runs_.erase(runs_.begin() + static_cast<std::ptrdiff_t>(first));
-      }
+      bin += __builtin_ctzll(word);
+      if (bin >= bins) break;
+      const int start = bin;
+      while (bin < bins && ((mask[bin >> 6] >> (bin & 63)) & 1u))
+        ++bin;
+      runs_.push_back({static_cast<int16_t>(start), static_cast<int16_t>(bin - start)});
     }
-  }
+    // A run ending at the last bin continues into the one starting at bin 0.
+    if (runs_.size() - first >= 2 && runs_[first].first_bin == 0 &&
+        runs_.back().first_bin + runs_.back().length == bins) {
+      runs_.back().length = static_cast<int16_t>(runs_.back().length + runs_[first].length);
+      runs_.erase(runs_.begin() + static_cast<std::ptrdiff_t>(first));
+    }
+  });
   cell_first_run_[local] = static_cast<uint32_t>(runs_.size());
 }
 
@@ -65,7 +67,7 @@ void MotionRemover::unite(uint32_t a, uint32_t b) {
   if (rank_[a] == rank_[b]) ++rank_[a];
 }
 
-bool MotionRemover::widelyVisible(const ReflectanceField& field, const CellIndex& cell,
+bool MotionRemover::widelyVisible(const ReflectanceField& field, int slot,
                                   int reflective_bins) const {
   // Upper bound of eq. 7 from the bin counts first: the exact sum reads every bin.
   const LogOddsModel& model = field.logOdds();
@@ -74,7 +76,7 @@ bool MotionRemover::widelyVisible(const ReflectanceField& field, const CellIndex
                         (bins - reflective_bins)) *
                        field.geometry().binWidth();
   if (bound <= rule_.options().beta) return false;
-  return rule_.isWidelyVisible(field, cell);
+  return field.marginalOddsAt(slot) > rule_.options().beta;
 }
 
 MotionRemovalCounts MotionRemover::classify(
@@ -102,10 +104,11 @@ MotionRemovalCounts MotionRemover::classify(
       int reflective = 0;
       for (uint32_t r = first; r < last; ++r)
         reflective += runs_[r].length;
-      const bool anchor = widelyVisible(field, cell, reflective);
+      const int slot = slots_[local];
+      const bool anchor = widelyVisible(field, slot, reflective);
       widely_visible[local] = anchor;
       bool seeded =
-          anchor || (persistence_ticks_ > 0 && field.confirmedTicks(cell) >= persistence_ticks_);
+          anchor || (persistence_ticks_ > 0 && field.confirmedTicksAt(slot) >= persistence_ticks_);
       // Known obstacles just outside the box seed components crossing its border.
       if (!seeded &&
           (x == box.min.x() || y == box.min.y() || x == box.max.x() - 1 || y == box.max.y() - 1)) {
@@ -160,7 +163,7 @@ MotionRemovalCounts MotionRemover::classify(
       }
       CellClass& c = classes[local];
       if (!rule_.isOccupied(reflective)) {
-        c = field.missedBins({x, y}) > 0 ? CellClass::kFree : CellClass::kUnknown;
+        c = field.missedBinsAt(slots_[local]) > 0 ? CellClass::kFree : CellClass::kUnknown;
         counts.free_cells += c == CellClass::kFree;
       } else if (widely_visible[local]) {
         c = CellClass::kStatic;

@@ -76,7 +76,11 @@ int ReflectanceField::reflectiveBins(const CellIndex& cell) const {
 }
 
 double ReflectanceField::marginalOdds(const CellIndex& cell) const {
-  const size_t index = window_.storageIndex(cell);
+  return marginalOddsAt(window_.storageIndex(cell));
+}
+
+double ReflectanceField::marginalOddsAt(int storage_index) const {
+  const size_t index = storage_index;
   double sum = 0.0;
   for (int bin = 0; bin < theta_bins_; ++bin)
     sum += log_odds_.odds(bins_[bin * plane_ + index]);

@@ -246,6 +246,26 @@ TEST(Params, ShippedConfigFilesLoad) {
   if (files == 0) GTEST_SKIP() << "no config/*.yaml yet";
 }
 
+// config/default.yaml documents the defaults: every core option it lists must equal the code's
+// default, and it must list them all.
+TEST(Params, DefaultYamlMatchesTheCoreDefaults) {
+  const std::filesystem::path path = std::filesystem::path(RFM_SOURCE_DIR) / "config/default.yaml";
+  MapperOptions from_yaml;
+  loadParamsFile(path.string(), from_yaml);
+  const MapperOptions defaults;
+  for (const OptionField& field : optionFields()) {
+    EXPECT_NEAR(getOption(from_yaml, field.name), getOption(defaults, field.name),
+                1e-9 * std::max(1.0, std::abs(getOption(defaults, field.name))))
+        << field.name << " in config/default.yaml differs from the core default";
+  }
+  std::ifstream text(path);
+  const std::string yaml((std::istreambuf_iterator<char>(text)), std::istreambuf_iterator<char>());
+  for (const OptionField& field : optionFields()) {
+    EXPECT_NE(yaml.find("\n" + field.name + ":"), std::string::npos)
+        << field.name << " is missing from config/default.yaml";
+  }
+}
+
 }  // namespace
 }  // namespace offline
 }  // namespace rfm

@@ -46,13 +46,13 @@ class MotionRemover {
   void collectRuns(const ReflectanceField& field, const CellBox& box);
   uint32_t find(uint32_t node);
   void unite(uint32_t a, uint32_t b);
-  bool widelyVisible(const ReflectanceField& field, const CellIndex& cell,
-                     int reflective_bins) const;
+  bool widelyVisible(const ReflectanceField& field, int slot, int reflective_bins) const;
 
   OccupancyRule rule_;
   int persistence_ticks_;
   std::vector<Run> runs_;
   std::vector<uint32_t> cell_first_run_;  // CSR over box cells, size cells + 1
+  std::vector<int> slots_;                // storage slot of each box cell
   std::vector<uint32_t> parent_;
   std::vector<uint8_t> rank_;
   std::vector<uint8_t> anchored_;  // per root: touches a widely visible or known static cell

@@ -55,7 +55,7 @@ struct OccupancyOptions {
   double alpha = 0.017453292519943295;  // rad (1 deg)
   // eq. 7: widely visible when sum over theta of odds * dtheta exceeds beta (odds-radians).
   // An unobserved cell sums to 2*pi (prior odds 1 everywhere), so beta must exceed that.
-  double beta = 14.0;
+  double beta = 30.0;
   // Glassy cells reflective over at least this angle are reported as metal (wider lobe).
   double metal_min_angle = 0.17453292519943295;  // rad (10 deg)
   void validate() const;
@@ -68,7 +68,7 @@ struct MotionRemovalOptions {
   // visible ones: a sensor that does not move sees walls from one direction only. A person
   // standing this long counts as structure until the misses after they leave clear the cells.
   // Measured in ticks of the motion-removal rate, on the scans' clock.
-  double persistence_time = 8.0;  // s, 0 disables
+  double persistence_time = 6.0;  // s, 0 disables
   void validate() const;
 };
 

@@ -46,7 +46,10 @@ class PassThroughDetector {
     if (blocked_at_ < 0.0) {
       const bool blocking = c == CellClass::kGlass || c == CellClass::kMetal ||
                             (c == CellClass::kStatic && !reflective_near(bin_));
-      if (blocking && passesNearCentre(cell)) blocked_at_ = along;
+      if (blocking && passesNearCentre(cell)) {
+        blocked_at_ = along;
+        blocker_ = c;
+      }
     } else if (!isObstacle(c)) {
       decided_ = true;  // came out on the other side
       return false;
@@ -55,6 +58,8 @@ class PassThroughDetector {
   }
 
   bool blocked() const { return blocked_at_ >= 0.0; }
+  // Class of the cell passed through (valid when distance() >= 0).
+  CellClass blocker() const { return blocker_; }
 
   // Distance (m, along the ray) of the blocking cell passed through, or negative. Complete once
   // the walk reached the ray's end or visit() returned false.
@@ -75,6 +80,7 @@ class PassThroughDetector {
   int bin_;
   double last_candidate_ = 0.0;
   double blocked_at_ = -1.0;
+  CellClass blocker_ = CellClass::kUnknown;
   bool decided_ = false;
 };
 

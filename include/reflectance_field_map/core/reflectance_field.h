@@ -117,6 +117,12 @@ class ReflectanceField {
   const uint64_t* reflectiveMask(const CellIndex& cell) const {
     return &reflective_masks_[static_cast<size_t>(window_.storageIndex(cell)) * mask_words_];
   }
+  const uint64_t* reflectiveMaskAt(int storage_index) const {
+    return &reflective_masks_[static_cast<size_t>(storage_index) * mask_words_];
+  }
+  int missedBinsAt(int storage_index) const { return missed_bins_[storage_index]; }
+  int confirmedTicksAt(int storage_index) const { return confirmed_ticks_[storage_index]; }
+  double marginalOddsAt(int storage_index) const;
   int reflectiveBins(const CellIndex& cell) const;
   int missedBins(const CellIndex& cell) const { return missed_bins_[window_.storageIndex(cell)]; }
   bool isReflectiveAt(int storage_index, int bin) const {

@@ -47,6 +47,22 @@ class RollingWindow {
   // Tiles inside the window now.
   std::vector<TileIndex> tiles() const;
 
+  // Calls visit(cell_x, cell_y, slot) for every cell of `box` (inside the window), row by row,
+  // stepping storage coordinates instead of dividing per cell.
+  template <typename Visit>
+  void forEachCell(const CellBox& box, Visit&& visit) const {
+    const int size = sizeCells();
+    const int first_x = storageCoordinate(box.min.x());
+    for (int y = box.min.y(); y < box.max.y(); ++y) {
+      const int sy = storageCoordinate(y);
+      int sx = first_x;
+      for (int x = box.min.x(); x < box.max.x(); ++x) {
+        visit(x, y, storageSlot(sx, sy));
+        if (++sx == size) sx = 0;
+      }
+    }
+  }
+
   void setOrigin(const TileIndex& origin_tile) { origin_tile_ = origin_tile; }
 
  private:
