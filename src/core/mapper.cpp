@@ -162,13 +162,16 @@ MotionRemovalSummary Mapper::removeMotion() {
   }
 
   // New glass: cells now blocking that were not before.
-  size_t i = 0, blocking = 0, new_blocking = 0;
-  field_.window().forEachCell(box, [&](int, int, int slot) {
+  size_t i = 0, blocking = 0;
+  CellBox new_glass;
+  field_.window().forEachCell(box, [&](int x, int y, int slot) {
     CellClass& stored = impl_->classes[slot];
     const CellClass now = box_classes[i++];
     if (blocksRays(now)) {
       ++blocking;
-      new_blocking += !blocksRays(stored) && now != CellClass::kStatic;
+      if (!blocksRays(stored) && now != CellClass::kStatic) {
+        new_glass = new_glass.unite({{x, y}, {x + 1, y + 1}});
+      }
     }
     stored = now;
   });
@@ -177,9 +180,9 @@ MotionRemovalSummary Mapper::removeMotion() {
     return box_classes[static_cast<size_t>(cell.y() - box.min.y()) * box.width() +
                        (cell.x() - box.min.x())];
   });
-  summary.new_glass = new_blocking > 0;
+  summary.new_glass = !new_glass.empty();
   if (summary.new_glass && options_.reflection_removal.reflection_removal_enabled) {
-    revertEvidenceBehindGlass();
+    revertEvidenceBehindGlass(new_glass);
   }
   summary.elapsed_ms = millisecondsSince(start);
   impl_->stats.last_motion_removal_ms = summary.elapsed_ms;
@@ -189,19 +192,37 @@ MotionRemovalSummary Mapper::removeMotion() {
   return summary;
 }
 
-void Mapper::revertEvidenceBehindGlass() {
+void Mapper::revertEvidenceBehindGlass(const CellBox& new_glass) {
   // Online Alg. 3: buffered scans whose rays pass through glass found since they were inserted
   // added evidence beyond it. Replay each such scan's de-duplicated updates with and without
   // that evidence and apply the difference (reverts stop at the prior, see revertHitAt).
+  // De-duplication is per theta bin, so only the bins holding a changed ray are replayed, and
+  // only rays crossing the new glass can change.
+  const GridGeometry& geometry = field_.geometry();
+  const double resolution = geometry.resolution();
   std::vector<BinUpdate> before, after;
+  std::vector<Ray> old_rays, new_rays;
+  std::vector<uint8_t> bin_changed(geometry.thetaBins());
   for (BufferedScan& buffered : impl_->buffer) {
-    std::vector<Ray> truncated = buffered.rays;
+    std::fill(bin_changed.begin(), bin_changed.end(), 0);
     bool changed = false;
-    for (Ray& ray : truncated)
-      changed |= truncateAtGlass(ray);
+    std::vector<Ray> truncated = buffered.rays;
+    for (Ray& ray : truncated) {
+      Ray probe = ray;
+      if (!clipRayToBox(new_glass, resolution, probe) || !truncateAtGlass(ray)) continue;
+      bin_changed[geometry.binOf(ray.angle)] = 1;
+      changed = true;
+    }
     if (!changed) continue;
-    impl_->inserter.collectUpdates(buffered.rays, field_, before);
-    impl_->inserter.collectUpdates(truncated, field_, after);
+    old_rays.clear();
+    new_rays.clear();
+    for (size_t k = 0; k < truncated.size(); ++k) {
+      if (!bin_changed[geometry.binOf(truncated[k].angle)]) continue;
+      old_rays.push_back(buffered.rays[k]);
+      new_rays.push_back(truncated[k]);
+    }
+    impl_->inserter.collectUpdates(old_rays, field_, before);
+    impl_->inserter.collectUpdates(new_rays, field_, after);
     size_t i = 0, j = 0;
     while (i < before.size() || j < after.size()) {
       if (j == after.size() || (i < before.size() && before[i] < after[j])) {

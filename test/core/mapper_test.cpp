@@ -53,7 +53,7 @@ TEST(Mapper, NanAndInfiniteRangesAreHandled) {
 TEST(Mapper, SaveLoadRoundTripsTheMapAndTheField) {
   SyntheticWorld world = room();
   Mapper mapper(testing::scenarioOptions());
-  runScenario(mapper, world, driveBy({-2.0, 1.0}, {2.0, 1.0}, 120, 0.0));
+  runScenario(mapper, world, driveBy({-2.0, 1.0}, {2.0, 1.0}, 0.0));
   std::stringstream state;
   mapper.save(state);
 
@@ -84,7 +84,7 @@ TEST(Mapper, SaveLoadRoundTripsTheMapAndTheField) {
 TEST(Mapper, ResetForgetsEverything) {
   SyntheticWorld world = room();
   Mapper mapper(testing::scenarioOptions());
-  runScenario(mapper, world, driveBy({-2.0, 1.0}, {2.0, 1.0}, 40, 0.0));
+  runScenario(mapper, world, driveBy({-2.0, 1.0}, {2.0, 1.0}, 0.0));
   EXPECT_GT(mapper.map().tileCount(), 0u);
   mapper.reset();
   EXPECT_EQ(mapper.map().tileCount(), 0u);
@@ -96,7 +96,7 @@ TEST(Mapper, GlobalMapKeepsWhatTheActiveRegionLeftBehind) {
   world.addWall({0.0, 2.0}, {40.0, 2.0});
   world.addWall({0.0, -2.0}, {40.0, -2.0});
   Mapper mapper(testing::scenarioOptions());
-  runScenario(mapper, world, driveBy({1.0, 0.0}, {39.0, 0.0}, 800, 0.0));
+  runScenario(mapper, world, driveBy({1.0, 0.0}, {39.0, 0.0}, 0.0));
   const GridGeometry& g = mapper.field().geometry();
   // The start of the corridor left the active region long ago but stays in the map.
   EXPECT_FALSE(mapper.field().inActiveRegion(g.cellOf({3.0, 2.0})));
@@ -109,10 +109,10 @@ TEST(Mapper, GlobalMapKeepsWhatTheActiveRegionLeftBehind) {
 TEST(BatchProcessor, PlainGridBaselineErasesGlassThatTheRfmKeeps) {
   SyntheticWorld world = room();
   std::vector<TimedScan> scans;
-  for (const auto& step : driveBy({-2.5, 1.5}, {2.5, 1.5}, 160, 0.0)) {
+  for (const auto& step : driveBy({-2.5, 1.5}, {2.5, 1.5}, 0.0)) {
     scans.push_back(world.timedScan(step.robot, 0.025 * scans.size()));
   }
-  for (const auto& step : driveBy({2.5, -1.5}, {-2.5, -1.5}, 160, kPi)) {
+  for (const auto& step : driveBy({2.5, -1.5}, {-2.5, -1.5}, kPi)) {
     scans.push_back(world.timedScan(step.robot, 0.025 * scans.size()));
   }
   const BatchResult baseline = processBatch(scans, MapperOptions{}, BatchMode::kPlainGrid);

@@ -116,7 +116,7 @@ TEST(MotionRemoval, FreestandingPaneIsGlassWithTheHShape) {
   SyntheticWorld world;
   world.addFramedPane({3.0, -2.0}, {3.0, 2.0});
   Mapper mapper(testing::scenarioOptions());
-  runScenario(mapper, world, driveBy({0.0, -5.0}, {0.0, 5.0}, 200, kPi / 2));
+  runScenario(mapper, world, driveBy({0.0, -5.0}, {0.0, 5.0}, kPi / 2));
   EXPECT_GT(fractionAlong(mapper, {3.0, -1.85}, {3.0, 1.85},
                           [](CellClass c) { return c == CellClass::kGlass; }),
             0.9);
@@ -193,7 +193,7 @@ TEST(MotionRemoval, PlainOfficeKeepsEveryWall) {
   world.addWall({-1.0, 1.0}, {1.0, 1.0});  // a desk edge
   Mapper mapper(testing::scenarioOptions());
   const std::vector<TimedScan> scans =
-      runScenario(mapper, world, driveBy({-3.5, -1.5}, {3.5, -1.5}, 200, 0.3));
+      runScenario(mapper, world, driveBy({-3.5, -1.5}, {3.5, -1.5}, 0.3));
   size_t kept = 0, returns = 0;
   for (const TimedScan& scan : scans) {
     for (RayLabel label : mapper.labelScan(scan, true)) {

@@ -69,7 +69,7 @@ TEST(ReflectionRemoval, WallSeenThroughGlassIsAReflection) {
   world.addFramedPane({2.0, -3.0}, {2.0, 3.0});
   world.addWall({4.0, -6.0}, {4.0, 6.0});
   std::vector<TimedScan> scans;
-  for (const auto& step : driveBy({0.0, -4.0}, {0.0, 4.0}, 240, kPi / 2)) {
+  for (const auto& step : driveBy({0.0, -4.0}, {0.0, 4.0}, kPi / 2)) {
     scans.push_back(world.timedScan(step.robot, 0.025 * scans.size()));
   }
   const BatchResult full = processBatch(scans, testing::scenarioOptions(), BatchMode::kFull);
@@ -106,7 +106,7 @@ TEST(ReflectionRemoval, MirrorImageIsRemoved) {
   world.addWall({2.5, 2.94}, {2.5, 3.0});
   world.addWall({-3.0, -6.0}, {-3.0, 6.0});  // the wall the mirror shows behind itself
   std::vector<TimedScan> scans;
-  for (const auto& step : driveBy({0.0, -4.0}, {0.0, 4.0}, 240, 0.0)) {
+  for (const auto& step : driveBy({0.0, -4.0}, {0.0, 4.0}, 0.0)) {
     scans.push_back(world.timedScan(step.robot, 0.025 * scans.size()));
   }
   const BatchResult full = processBatch(scans, testing::scenarioOptions(), BatchMode::kFull);
@@ -133,10 +133,10 @@ TEST(ReflectionRemoval, TwoParallelPanesTerminateWithBothKept) {
   world.addFramedPane({3.5, -3.0}, {3.5, 3.0});
   world.addWall({6.0, -6.0}, {6.0, 6.0});
   std::vector<TimedScan> scans;
-  for (const auto& step : driveBy({0.0, -4.0}, {0.0, 4.0}, 200, kPi / 2)) {
+  for (const auto& step : driveBy({0.0, -4.0}, {0.0, 4.0}, kPi / 2)) {
     scans.push_back(world.timedScan(step.robot, 0.025 * scans.size()));
   }
-  for (const auto& step : driveBy({5.0, 4.0}, {5.0, -4.0}, 200, -kPi / 2)) {
+  for (const auto& step : driveBy({5.0, 4.0}, {5.0, -4.0}, -kPi / 2)) {
     scans.push_back(world.timedScan(step.robot, 0.025 * scans.size()));
   }
   MapperOptions options = testing::scenarioOptions();
@@ -160,7 +160,7 @@ TEST(ReflectionRemoval, OnlineScansThroughKnownGlassAreReflections) {
   world.addFramedPane({2.0, -3.0}, {2.0, 3.0});
   world.addWall({4.0, -6.0}, {4.0, 6.0});
   Mapper mapper(testing::scenarioOptions());
-  runScenario(mapper, world, driveBy({0.0, -4.0}, {0.0, 4.0}, 240, kPi / 2));
+  runScenario(mapper, world, driveBy({0.0, -4.0}, {0.0, 4.0}, kPi / 2));
   const ScanUpdate update = mapper.addScan(world.timedScan({{0.0, 0.0}, 0.0}));
   size_t reflections = 0;
   for (RayLabel l : update.labels)

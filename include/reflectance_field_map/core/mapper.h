@@ -112,7 +112,7 @@ class Mapper {
 
  private:
   struct Impl;
-  void revertEvidenceBehindGlass();
+  void revertEvidenceBehindGlass(const CellBox& new_glass);
   void undo(const BinUpdate& update);
   void redo(const BinUpdate& update);
   void tickPersistenceIfDue(double stamp);
