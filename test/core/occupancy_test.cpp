@@ -39,9 +39,11 @@ ReflectanceField fieldWithHits(int bins_hit, int hits_per_bin, int bins_missed) 
 }
 
 TEST(OccupancyRule, BetaSeparatesWidelyVisibleFromNarrowLobes) {
-  const OccupancyRule rule(OccupancyOptions(), 2.0 * kDeg);  // beta = 14
-  // A wall edge seen saturated over 30 deg (15 bins): widely visible.
-  EXPECT_TRUE(rule.isWidelyVisible(fieldWithHits(15, 10, 60), {0, 0}));
+  const OccupancyRule rule(OccupancyOptions(), 2.0 * kDeg);  // beta = 30
+  // A wall edge or frame seen saturated over 60 deg (30 bins): widely visible.
+  EXPECT_TRUE(rule.isWidelyVisible(fieldWithHits(30, 10, 60), {0, 0}));
+  // A person standing still while the robot drove past, seen over 40 deg: not.
+  EXPECT_FALSE(rule.isWidelyVisible(fieldWithHits(20, 10, 60), {0, 0}));
   // A glass face seen near its normal (3 bins) and missed from 90 other bins: not.
   EXPECT_FALSE(rule.isWidelyVisible(fieldWithHits(3, 10, 90), {0, 0}));
   // A brief, unsaturated glimpse of many bins (one hit each) is not widely visible either.
