@@ -135,14 +135,9 @@ MotionRemovalSummary Mapper::removeMotion() {
   const CellBox box = field_.activeBox();
   std::vector<CellClass>& box_classes = impl_->box_classes;
   if (options_.motion_removal.motion_removal_enabled) {
-    const MotionRemovalCounts counts = impl_->remover.classify(
+    static_cast<MotionRemovalCounts&>(summary) = impl_->remover.classify(
         field_, box, [this](const CellIndex& cell) { return map_.get(cell); }, box_classes);
-    summary.components = counts.components;
-    summary.static_cells = counts.static_cells;
-    summary.glass_cells = counts.glass_cells;
-    summary.metal_cells = counts.metal_cells;
-    summary.motion_cells = counts.motion_cells;
-    impl_->stats.free_cells = counts.free_cells;
+    impl_->stats.free_cells = summary.free_cells;
   } else {
     // Plain eq. 5 projection: occupied, free or unknown.
     box_classes.resize(static_cast<size_t>(box.width()) * box.height());

@@ -11,7 +11,6 @@ bool binIntervalsOverlap(int a, int a_len, int b, int b_len, int bins) {
 
 void MotionRemover::collectRuns(const ReflectanceField& field, const CellBox& box) {
   const int bins = field.geometry().thetaBins();
-  const int words = field.maskWords();
   runs_.clear();
   slots_.resize(static_cast<size_t>(box.width()) * box.height());
   cell_first_run_.assign(slots_.size() + 1, 0);
@@ -19,11 +18,8 @@ void MotionRemover::collectRuns(const ReflectanceField& field, const CellBox& bo
   field.window().forEachCell(box, [&](int, int, int slot) {
     slots_[local] = slot;
     cell_first_run_[local++] = static_cast<uint32_t>(runs_.size());
+    if (!field.anyReflectiveAt(slot)) return;
     const uint64_t* mask = field.reflectiveMaskAt(slot);
-    bool any = false;
-    for (int w = 0; w < words; ++w)
-      any |= mask[w] != 0;
-    if (!any) return;
     const size_t first = runs_.size();
     int bin = 0;
     while (bin < bins) {

@@ -86,6 +86,7 @@ TEST(ReflectanceField, SummariesMatchBinsAfterRandomUpdates) {
         ASSERT_EQ(field.isReflective({cx, cy}, b), v > 0);
       }
       ASSERT_EQ(field.reflectiveBins({cx, cy}), reflective);
+      ASSERT_EQ(field.anyReflectiveAt(field.window().storageIndex({cx, cy})), reflective > 0);
       ASSERT_EQ(field.missedBins({cx, cy}), missed);
       ASSERT_NEAR(field.marginalOdds({cx, cy}), marginal, 1e-3 * marginal);
     }

@@ -3,6 +3,7 @@
 #include "reflectance_field_map/core/cell_class.h"
 #include "reflectance_field_map/core/global_map.h"
 #include "reflectance_field_map/core/laser_scan.h"
+#include "reflectance_field_map/core/motion_removal.h"
 #include "reflectance_field_map/core/options.h"
 #include "reflectance_field_map/core/reflectance_field.h"
 #include "reflectance_field_map/core/scan_inserter.h"
@@ -37,12 +38,7 @@ struct ScanUpdate {
   double reflection_ms = 0.0;
 };
 
-struct MotionRemovalSummary {
-  size_t components = 0;
-  size_t static_cells = 0;
-  size_t glass_cells = 0;
-  size_t metal_cells = 0;
-  size_t motion_cells = 0;
+struct MotionRemovalSummary : MotionRemovalCounts {
   bool new_glass = false;  // glass appeared where there was none: buffered scans re-processed
   double elapsed_ms = 0.0;
 };

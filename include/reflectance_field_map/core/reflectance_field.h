@@ -50,7 +50,10 @@ class ReflectanceField {
       const int updated = old + hit_step_ > max_ ? max_ : old + hit_step_;
       v = static_cast<int8_t>(updated);
       hit_flags_[slot] = 1;
-      if (old <= 0 && updated > 0) masks_[static_cast<size_t>(slot) * mask_words_] |= bit_;
+      if (old <= 0 && updated > 0) {
+        masks_[static_cast<size_t>(slot) * mask_words_] |= bit_;
+        any_reflective_[slot] = 1;
+      }
       if (old < 0 && updated >= 0) --missed_[slot];
     }
     void miss(int slot) {
@@ -58,17 +61,29 @@ class ReflectanceField {
       const int old = v;
       const int updated = old + miss_step_ < min_ ? min_ : old + miss_step_;
       v = static_cast<int8_t>(updated);
-      if (old > 0 && updated <= 0) masks_[static_cast<size_t>(slot) * mask_words_] &= ~bit_;
+      if (old > 0 && updated <= 0) {
+        masks_[static_cast<size_t>(slot) * mask_words_] &= ~bit_;
+        any_reflective_[slot] = anyBitSet(slot);
+      }
       if (old >= 0 && updated < 0) ++missed_[slot];
     }
 
    private:
     friend class ReflectanceField;
+    uint8_t anyBitSet(int slot) const {
+      const uint64_t* cell = masks_ - word_ + static_cast<size_t>(slot) * mask_words_;
+      for (int w = 0; w < mask_words_; ++w) {
+        if (cell[w] != 0) return 1;
+      }
+      return 0;
+    }
     int8_t* bins_;
     uint64_t* masks_;  // points at this bin's word of slot 0
     uint16_t* missed_;
     uint8_t* hit_flags_;
+    uint8_t* any_reflective_;
     uint64_t bit_;
+    int word_;
     int mask_words_, hit_step_, miss_step_, min_, max_;
   };
   SliceWriter sliceWriter(int bin) {
@@ -77,6 +92,8 @@ class ReflectanceField {
     w.masks_ = &reflective_masks_[bin >> 6];
     w.missed_ = missed_bins_.data();
     w.hit_flags_ = hit_since_tick_.data();
+    w.any_reflective_ = any_reflective_.data();
+    w.word_ = bin >> 6;
     w.bit_ = uint64_t{1} << (bin & 63);
     w.mask_words_ = mask_words_;
     w.hit_step_ = log_odds_.hitStep();
@@ -117,6 +134,9 @@ class ReflectanceField {
   const uint64_t* reflectiveMask(const CellIndex& cell) const {
     return &reflective_masks_[static_cast<size_t>(window_.storageIndex(cell)) * mask_words_];
   }
+  // Whether the cell is reflective in any direction (kept with the masks, one byte per cell, so
+  // scans over the region skip empty cells without reading their masks).
+  bool anyReflectiveAt(int storage_index) const { return any_reflective_[storage_index] != 0; }
   const uint64_t* reflectiveMaskAt(int storage_index) const {
     return &reflective_masks_[static_cast<size_t>(storage_index) * mask_words_];
   }
@@ -164,10 +184,13 @@ class ReflectanceField {
 
  private:
   void setReflective(int storage_index, int bin, bool reflective) {
-    uint64_t& word =
-        reflective_masks_[static_cast<size_t>(storage_index) * mask_words_ + (bin >> 6)];
+    uint64_t* mask = &reflective_masks_[static_cast<size_t>(storage_index) * mask_words_];
     const uint64_t bit = uint64_t{1} << (bin & 63);
-    word = reflective ? (word | bit) : (word & ~bit);
+    mask[bin >> 6] = reflective ? (mask[bin >> 6] | bit) : (mask[bin >> 6] & ~bit);
+    bool any = false;
+    for (int w = 0; w < mask_words_; ++w)
+      any |= mask[w] != 0;
+    any_reflective_[storage_index] = any;
   }
   void revertAt(int storage_index, int bin, int step);
   void archiveTile(const TileIndex& tile);
@@ -189,6 +212,7 @@ class ReflectanceField {
   std::vector<uint64_t> reflective_masks_;  // [y][x][word]
   std::vector<uint16_t> missed_bins_;       // [y][x]
   std::vector<uint8_t> hit_since_tick_;     // [y][x]
+  std::vector<uint8_t> any_reflective_;     // [y][x]
   std::vector<uint8_t> confirmed_ticks_;    // [y][x]
   TileArchive archive_;
 };
