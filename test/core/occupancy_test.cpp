@@ -53,9 +53,10 @@ TEST(OccupancyRule, BetaSeparatesWidelyVisibleFromNarrowLobes) {
 }
 
 TEST(OccupancyRule, MetalNeedsAWideLobe) {
-  const OccupancyRule rule(OccupancyOptions(), 2.0 * kDeg);  // 10 deg
-  EXPECT_FALSE(rule.isMetalLobe(4));
-  EXPECT_TRUE(rule.isMetalLobe(5));
+  const OccupancyRule rule(OccupancyOptions(), 2.0 * kDeg);  // 16 deg
+  EXPECT_FALSE(rule.isMetalLobe(5));  // glass returning within +-5 deg of its normal
+  EXPECT_FALSE(rule.isMetalLobe(7));
+  EXPECT_TRUE(rule.isMetalLobe(8));
 }
 
 TEST(CellClass, OccupancyValues) {

@@ -351,7 +351,14 @@ TEST(SyntheticScene, MapHasThePaneAndTheWallOccupied) {
         return false;
       },
       10.0))
-      << "no glass markers";
+      << "no glass markers; markers by namespace: " << [&] {
+           std::lock_guard<std::mutex> lock(scenario->mutex_);
+           std::string seen;
+           for (const auto& m : scenario->glass_markers_.markers) {
+             seen += m.ns + "=" + std::to_string(m.points.size()) + " ";
+           }
+           return seen;
+         }();
 }
 
 // Rays through the pane (seen away from its normal) reach the back wall: the cells they cross

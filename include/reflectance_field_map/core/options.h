@@ -57,7 +57,7 @@ struct OccupancyOptions {
   // An unobserved cell sums to 2*pi (prior odds 1 everywhere), so beta must exceed that.
   double beta = 30.0;
   // Glassy cells reflective over at least this angle are reported as metal (wider lobe).
-  double metal_min_angle = 0.17453292519943295;  // rad (10 deg)
+  double metal_min_angle = 0.2792526803190927;  // rad (16 deg): glass lobes are narrower
   void validate() const;
 };
 
