@@ -308,13 +308,16 @@ double Mapper::passThroughDistance(const Ray& ray, CellClass* blocker) const {
                     if (c == CellClass::kFree || c == CellClass::kUnknown) {
                       if (!detector.blocked()) return true;  // the common case, no arithmetic
                     }
-                    return detector.visit({x, y}, c, [&](int bin) {
-                      // One bin either side: a wall grazed at a shallow angle is hit in
-                      // neighbouring directions.
-                      return field_.isReflectiveAt(slot, bin) ||
-                             field_.isReflectiveAt(slot, (bin + 1) % bins) ||
-                             field_.isReflectiveAt(slot, (bin + bins - 1) % bins);
-                    });
+                    return detector.visit(
+                        {x, y}, c,
+                        [&](int bin) {
+                          // One bin either side: a wall grazed at a shallow angle is hit in
+                          // neighbouring directions.
+                          return field_.isReflectiveAt(slot, bin) ||
+                                 field_.isReflectiveAt(slot, (bin + 1) % bins) ||
+                                 field_.isReflectiveAt(slot, (bin + bins - 1) % bins);
+                        },
+                        [this](const CellIndex& cell) { return cellClass(cell); });
                   });
   if (blocker != nullptr) *blocker = detector.blocker();
   return detector.distance();

@@ -31,16 +31,19 @@ LabelCounts count(const std::vector<std::vector<RayLabel>>& labels) {
   return c;
 }
 
-TEST(FirstPassThroughDistance, StopsAtGlassAndAtStaticCellsNotReflectiveInTheRayDirection) {
+TEST(FirstPassThroughDistance, StopsWhereTheRayCrossesGlassOrAStaticSurface) {
   const GridGeometry g(0.05, 180);
   Ray ray;
   ray.origin = {0.01, 0.01};
   ray.end = {3.01, 0.01};
   ray.angle = 0.0;
   ray.hit = true;
+  // A pane across the ray: the column of cells at x = 1.0 m.
   const CellIndex glass = g.cellOf({1.0, 0.01});
   CellClass glass_class = CellClass::kGlass;
-  auto class_of = [&](const CellIndex& c) { return c == glass ? glass_class : CellClass::kFree; };
+  auto class_of = [&](const CellIndex& c) {
+    return c.x() == glass.x() ? glass_class : CellClass::kFree;
+  };
   auto never = [](const CellIndex&, int) { return false; };
   auto always = [](const CellIndex&, int) { return true; };
   EXPECT_NEAR(firstPassThroughDistance(ray, g, 0.15, class_of, never), 1.025 - 0.01, 1e-9);
@@ -60,6 +63,16 @@ TEST(FirstPassThroughDistance, StopsAtGlassAndAtStaticCellsNotReflectiveInTheRay
     return c.x() >= glass.x() ? CellClass::kStatic : CellClass::kFree;
   };
   EXPECT_LT(firstPassThroughDistance(ray, g, 0.15, wall_from_one_metre, never), 0.0);
+  // The tip of a structure (one glass cell, or a pane ending at the ray) is not crossed: the
+  // ray passes beside it through the empty part of the cell.
+  auto lone_cell = [&](const CellIndex& c) {
+    return c == glass ? CellClass::kGlass : CellClass::kFree;
+  };
+  EXPECT_LT(firstPassThroughDistance(ray, g, 0.15, lone_cell, never), 0.0);
+  auto pane_ending_here = [&](const CellIndex& c) {
+    return c.x() == glass.x() && c.y() >= glass.y() ? CellClass::kGlass : CellClass::kFree;
+  };
+  EXPECT_LT(firstPassThroughDistance(ray, g, 0.15, pane_ending_here, never), 0.0);
 }
 
 // A wall seen through a glass pane: once the pane is known, rays through it are reflections

@@ -33,9 +33,10 @@ class PassThroughDetector {
   }
 
   // Feeds the next cell; false once decided (stop walking). reflective_near(bin) is asked only
-  // for static cells.
-  template <typename ReflectiveNear>
-  bool visit(const CellIndex& cell, CellClass c, ReflectiveNear&& reflective_near) {
+  // for static cells, class_of(cell) only for the neighbours of a candidate.
+  template <typename ReflectiveNear, typename ClassOf>
+  bool visit(const CellIndex& cell, CellClass c, ReflectiveNear&& reflective_near,
+             ClassOf&& class_of) {
     if (decided_) return false;
     const double along = (geometry_.cellCenter(cell) - origin_).dot(direction_);
     if (along > last_candidate_) {
@@ -46,7 +47,7 @@ class PassThroughDetector {
     if (blocked_at_ < 0.0) {
       const bool blocking = c == CellClass::kGlass || c == CellClass::kMetal ||
                             (c == CellClass::kStatic && !reflective_near(bin_));
-      if (blocking && passesNearCentre(cell)) {
+      if (blocking && passesNearCentre(cell) && crossesASurface(cell, class_of)) {
         blocked_at_ = along;
         blocker_ = c;
       }
@@ -74,6 +75,24 @@ class PassThroughDetector {
     return distance <= 0.5 * geometry_.resolution();
   }
 
+  // A pane extends on both sides of a ray crossing it; the tip of a structure (a corner, the end
+  // of a frame, an edge seen from one side) extends on one side only, and rays passing beside it
+  // through the empty part of its cell are not crossing anything.
+  template <typename ClassOf>
+  bool crossesASurface(const CellIndex& cell, ClassOf&& class_of) const {
+    bool left = false, right = false;
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        if (dx == 0 && dy == 0) continue;
+        if (!isObstacle(class_of(CellIndex(cell.x() + dx, cell.y() + dy)))) continue;
+        const double side = dx * direction_.y() - dy * direction_.x();
+        left |= side < 0.0;
+        right |= side > 0.0;
+      }
+    }
+    return left && right;
+  }
+
   const GridGeometry& geometry_;
   Eigen::Vector2d origin_;
   Eigen::Vector2d direction_;
@@ -92,8 +111,8 @@ double firstPassThroughDistance(const Ray& ray, const GridGeometry& geometry,
   PassThroughDetector detector(ray, geometry, penetration_tolerance);
   forEachCellOnRayWhile(
       ray.origin, ray.end, geometry.inverseResolution(), [&](const CellIndex& cell) {
-        return detector.visit(cell, class_of(cell),
-                              [&](int bin) { return reflective_near(cell, bin); });
+        return detector.visit(
+            cell, class_of(cell), [&](int bin) { return reflective_near(cell, bin); }, class_of);
       });
   return detector.distance();
 }
