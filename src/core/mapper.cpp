@@ -379,7 +379,8 @@ bool Mapper::load(std::istream& in) {
 
 MapperStats Mapper::stats() const {
   MapperStats stats = impl_->stats;
-  stats.field_bytes = field_.activeBytes();
+  // The active region: the field and the mapper's per-cell classes.
+  stats.field_bytes = field_.activeBytes() + impl_->classes.size() * sizeof(CellClass);
   stats.archived_bytes = field_.archivedBytes();
   return stats;
 }

@@ -9,6 +9,7 @@
 
 #include <benchmark/benchmark.h>
 #include <octomap/octomap.h>
+#include <cmath>
 
 namespace rfm {
 namespace {
@@ -123,6 +124,32 @@ void BM_WholeUpdatePerScan(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_WholeUpdatePerScan)->Unit(benchmark::kMillisecond);
+
+// Memory, measured once: the active region at defaults, the compressed evidence kept for cells
+// that left it (per explored square metre), and the global 2D map of a 200 m x 200 m area.
+void BM_MemoryFootprint(benchmark::State& state) {
+  for (auto _ : state) {
+    Mapper mapper{MapperOptions()};
+    // 30 m of corridor at 1 m/s: most of the region scrolls out into the archive.
+    const auto corridor = benchmarking::indoorScans(1200, InsertionOptions());
+    for (const auto& s : corridor)
+      mapper.addScan(s.scan);
+    const MapperStats stats = mapper.stats();
+    const ReflectanceField& field = mapper.field();
+    const double tile_area =
+        std::pow(field.window().tileCells() * field.geometry().resolution(), 2);
+    state.counters["active_region_MB"] = stats.field_bytes / 1e6;
+    state.counters["archived_tiles"] = static_cast<double>(field.archivedTiles());
+    state.counters["archive_bytes_per_m2"] =
+        field.archivedTiles() == 0 ? 0.0
+                                   : field.archivedBytes() / (field.archivedTiles() * tile_area);
+    GlobalMap2D map;
+    const int cells = static_cast<int>(200.0 / 0.05);
+    map.assign({{0, 0}, {cells, cells}}, [](const CellIndex&) { return CellClass::kFree; });
+    state.counters["global_map_200m_MB"] = map.bytes() / 1e6;
+  }
+}
+BENCHMARK(BM_MemoryFootprint)->Iterations(1)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace rfm
