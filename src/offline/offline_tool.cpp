@@ -120,21 +120,6 @@ int runOffline(const OfflineArguments& args, std::ostream& log) {
           [&bar](size_t done, size_t total) { bar.update(done, total); }, inspect);
     }
     summary.stage_seconds["process"] = secondsSince(stage);
-    if (mode.mode != BatchMode::kPlainGrid && !options.motion_removal.motion_removal_enabled) {
-      // Without motion removal the map holds only occupied, free and unknown cells.
-      const auto classes = countClasses(result.map);
-      const uint64_t judged =
-          classes.at(toString(CellClass::kStatic)) + classes.at(toString(CellClass::kGlass)) +
-          classes.at(toString(CellClass::kMetal)) + classes.at(toString(CellClass::kMotion));
-      if (judged > 0) {
-        const std::string note = "motion removal was requested off but the batch ran it (" +
-                                 std::to_string(judged) +
-                                 " cells classified static/glass/metal/motion): processBatch(" +
-                                 toString(mode.mode) + ") does not honour motion_removal_enabled";
-        log << "rfm_offline: warning: " << note << "\n";
-        summary.notes.push_back(note);
-      }
-    }
 
     // Outputs.
     stage = Clock::now();

@@ -47,8 +47,8 @@ std::string usage();
 //   --no-motion-removal --no-reflection-removal       kBasicRfm      (both switches off)
 //   --no-reflection-removal                           kMotionRemoval (reflection switch off)
 //   --no-motion-removal                               kFull with motion_removal_enabled = 0:
-//        reflections are still removed against the glass/static cells the field yields, no
-//        motion removal pass runs (there is no BatchMode for it)
+//        glass is found by motion removal (Alg. 3 step 1 uses Alg. 2), so without it nothing
+//        blocks rays and the result equals the basic RFM
 //   (none)                                            kFull
 // A switch set to 0 in the --params file counts like the flag.
 struct ModeSelection {
