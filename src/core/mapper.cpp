@@ -293,7 +293,7 @@ void Mapper::clipToActiveRegion(std::vector<Ray>& rays) const {
   rays.resize(kept);
 }
 
-double Mapper::passThroughDistance(const Ray& ray, CellClass* blocker) const {
+double Mapper::passThroughDistance(const Ray& ray) const {
   const double tolerance = options_.reflection_removal.penetration_tolerance;
   PassThroughDetector detector(ray, field_.geometry(), tolerance);
   // Cells within the tolerance of the end never decide: walk only up to there.
@@ -319,23 +319,18 @@ double Mapper::passThroughDistance(const Ray& ray, CellClass* blocker) const {
                         },
                         [this](const CellIndex& cell) { return cellClass(cell); });
                   });
-  if (blocker != nullptr) *blocker = detector.blocker();
   return detector.distance();
 }
 
 bool Mapper::truncateAtGlass(Ray& ray) const {
-  CellClass blocker = CellClass::kUnknown;
-  const double along = passThroughDistance(ray, &blocker);
+  const double along = passThroughDistance(ray);
   if (along < 0.0) return false;
+  // Evidence beyond the surface is discarded (Alg. 3): misses up to it, no hit. Even the misses
+  // beyond glass are dropped: a mirror looks like glass in the field, and beyond a mirror the
+  // path is folded, so its misses would erase real walls.
+  const Eigen::Vector2d direction = (ray.end - ray.origin).normalized();
+  ray.end = ray.origin + direction * (along + 0.5 * field_.geometry().resolution());
   ray.hit = false;
-  if (blocker == CellClass::kGlass) {
-    // Glass transmits straight: the cells crossed beyond it are free; only the return is dropped.
-    ray.through_glass = true;
-  } else {
-    // A mirror or metal folds the ray: the path beyond is virtual. Misses up to the surface only.
-    const Eigen::Vector2d direction = (ray.end - ray.origin).normalized();
-    ray.end = ray.origin + direction * (along + 0.5 * field_.geometry().resolution());
-  }
   return true;
 }
 

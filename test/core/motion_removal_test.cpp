@@ -137,7 +137,7 @@ TEST(MotionRemoval, PedestrianWalkingPastIsRemoved) {
   SyntheticWorld world;
   world.addWall({-6.0, 4.0}, {6.0, 4.0});
   std::vector<ScenarioStep> steps;
-  for (int i = 0; i < 400; ++i) {
+  for (int i = 0; i < 600; ++i) {  // 15 s: longer than persistence_time
     const double t = 0.025 * i;
     steps.push_back({{{0.0, 0.0}, kPi / 2}, {Disc{{-4.0 + 0.8 * t, 2.0}, 0.25}}});
   }

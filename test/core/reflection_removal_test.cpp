@@ -63,12 +63,12 @@ TEST(FirstPassThroughDistance, StopsWhereTheRayCrossesGlassOrAStaticSurface) {
     return c.x() >= glass.x() ? CellClass::kStatic : CellClass::kFree;
   };
   EXPECT_LT(firstPassThroughDistance(ray, g, 0.15, wall_from_one_metre, never), 0.0);
-  // The tip of a structure (one glass cell, or a pane ending at the ray) is not crossed: the
-  // ray passes beside it through the empty part of the cell.
+  // A lone glass cell (a surface the field has barely seen) is crossed; the tip of a structure
+  // (a pane ending at the ray) is not: the ray passes beside it through the empty part.
   auto lone_cell = [&](const CellIndex& c) {
     return c == glass ? CellClass::kGlass : CellClass::kFree;
   };
-  EXPECT_LT(firstPassThroughDistance(ray, g, 0.15, lone_cell, never), 0.0);
+  EXPECT_GT(firstPassThroughDistance(ray, g, 0.15, lone_cell, never), 0.0);
   auto pane_ending_here = [&](const CellIndex& c) {
     return c.x() == glass.x() && c.y() >= glass.y() ? CellClass::kGlass : CellClass::kFree;
   };

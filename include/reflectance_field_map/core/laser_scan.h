@@ -31,9 +31,6 @@ struct Ray {
   double angle = 0.0;   // direction of travel, rad
   uint32_t beam = 0;    // index in its scan
   bool hit = false;     // end is a return (adds a hit) or only the end of misses
-  // Passed through glass (Alg. 3): misses up to, not including, the end cell and no hit. Glass
-  // transmits straight, so the space it crossed is free; what it returned is untrustworthy.
-  bool through_glass = false;
 };
 
 // Per-beam label, values as in msg/RayLabels.msg.

@@ -115,11 +115,9 @@ class Mapper {
   // Limits rays to the active-region radius around their sensor and to the window (the walks
   // below need rays inside it); a ray cut short loses its hit.
   void clipToActiveRegion(std::vector<Ray>& rays) const;
-  // Alg. 3 check of a ray inside the window against the current classes (PassThroughDetector);
-  // `blocker` receives the class of the cell passed through.
-  double passThroughDistance(const Ray& ray, CellClass* blocker = nullptr) const;
-  // Discards the evidence a ray brings from beyond glass (false if it passes none): past glass
-  // only its return; past a mirror, metal or a wall everything (the path beyond is folded).
+  // Alg. 3 check of a ray inside the window against the current classes (PassThroughDetector).
+  double passThroughDistance(const Ray& ray) const;
+  // Cuts a ray that passes through glass just past it (false if it passes none).
   bool truncateAtGlass(Ray& ray) const;
 
   MapperOptions options_;

@@ -68,7 +68,7 @@ struct MotionRemovalOptions {
   // visible ones: a sensor that does not move sees walls from one direction only. A person
   // standing this long counts as structure until the misses after they leave clear the cells.
   // Measured in ticks of the motion-removal rate, on the scans' clock.
-  double persistence_time = 6.0;  // s, 0 disables
+  double persistence_time = 12.0;  // s, 0 disables
   void validate() const;
 };
 

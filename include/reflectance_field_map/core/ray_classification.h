@@ -49,7 +49,6 @@ class PassThroughDetector {
                             (c == CellClass::kStatic && !reflective_near(bin_));
       if (blocking && passesNearCentre(cell) && crossesASurface(cell, class_of)) {
         blocked_at_ = along;
-        blocker_ = c;
       }
     } else if (!isObstacle(c)) {
       decided_ = true;  // came out on the other side
@@ -59,8 +58,6 @@ class PassThroughDetector {
   }
 
   bool blocked() const { return blocked_at_ >= 0.0; }
-  // Class of the cell passed through (valid when distance() >= 0).
-  CellClass blocker() const { return blocker_; }
 
   // Distance (m, along the ray) of the blocking cell passed through, or negative. Complete once
   // the walk reached the ray's end or visit() returned false.
@@ -90,7 +87,9 @@ class PassThroughDetector {
         right |= side > 0.0;
       }
     }
-    return left && right;
+    // Obstacles on one side only: a tip. On both sides: a surface. On neither: a lone cell of a
+    // surface the field has barely seen (a mirror away from where it was faced): crossed too.
+    return left == right;
   }
 
   const GridGeometry& geometry_;
@@ -99,7 +98,6 @@ class PassThroughDetector {
   int bin_;
   double last_candidate_ = 0.0;
   double blocked_at_ = -1.0;
-  CellClass blocker_ = CellClass::kUnknown;
   bool decided_ = false;
 };
 

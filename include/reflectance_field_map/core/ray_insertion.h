@@ -113,10 +113,9 @@ void DeduplicatingRayInserter::insert(const RollingWindow& window, double invers
     }
     for (uint32_t k = begin; k < end; ++k) {
       const Ray& ray = rays[order[k]];
-      // A hit ray's end cell holds its hit; a cleared ray misses its end cell too; a ray through
-      // glass leaves its (untrustworthy) end cell alone.
-      walkWindowCells(ray.origin, ray.end, inverse_resolution, window,
-                      !ray.hit && !ray.through_glass, [&](int slot, int, int) {
+      // A hit ray's end cell holds its hit; a cleared ray misses its end cell too.
+      walkWindowCells(ray.origin, ray.end, inverse_resolution, window, !ray.hit,
+                      [&](int slot, int, int) {
                         if (stamps[slot] != stamp) {
                           stamps[slot] = stamp;
                           writer.miss(slot);
