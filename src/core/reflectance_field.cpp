@@ -192,11 +192,6 @@ void ReflectanceField::tickPersistence() {
   }
 }
 
-void ReflectanceField::rebuildAllSummaries() {
-  for (size_t index = 0; index < plane_; ++index)
-    rebuildCellSummary(static_cast<int>(index));
-}
-
 void ReflectanceField::revertAt(int storage_index, int bin, int step) {
   // Clamping makes exact inversion impossible (a miss at the lower clamp changed nothing), so a
   // revert never moves a bin across the prior: it can under-correct, never invent.

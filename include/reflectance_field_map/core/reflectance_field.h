@@ -154,12 +154,10 @@ class ReflectanceField {
     const uint64_t* mask = reflectiveMask(cell);
     return (mask[bin >> 6] >> (bin & 63)) & 1u;
   }
-  // Persistence: how many consecutive ticks the cell has been reflective and hit again since
-  // the previous tick (saturates at 255). Long-confirmed evidence is structure even when seen
-  // from a single place; evidence that is merely never contradicted does not count.
-  int confirmedTicks(const CellIndex& cell) const {
-    return confirmed_ticks_[window_.storageIndex(cell)];
-  }
+  // Persistence tick: a cell's count (confirmedTicksAt) grows while it stays reflective and is hit
+  // again between ticks, saturating at 255, and resets when it stops being reflective.
+  // Long-confirmed evidence is structure even when seen from a single place; evidence that is
+  // merely never contradicted does not count.
   void tickPersistence();
 
   // eq. 7: sum over theta of the odds of reflectance times the bin width (rad).
@@ -173,10 +171,6 @@ class ReflectanceField {
 
   // Forgets everything (active and archived).
   void clear();
-  // Recomputes every per-cell summary from the bins (after raw, summary-free insertion).
-  void rebuildAllSummaries();
-  // Raw bin storage for summary-free parallel insertion: slice `bin` of the window.
-  int8_t* slice(int bin) { return &bins_[static_cast<size_t>(bin) * plane_]; }
 
   // Binary state (window origin, active bins, archive) for save/load.
   void write(std::ostream& out) const;
