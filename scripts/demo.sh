@@ -4,17 +4,12 @@
 # metal doors, people), maps it with rfm_offline and writes the map picture.
 #   Output: ${OUT:-/tmp/rfm_demo}/map/{layers.png,map.pgm,map.yaml,labels.bag,summary.json}
 set -euo pipefail
-source_dir="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-if [ "${RFM_SKIP_INSTALL:-0}" != 1 ]; then bash "$source_dir/scripts/install_deps.sh"; fi
-bash "$source_dir/scripts/build.sh"
-export PATH=/usr/bin:$PATH
-ws="${RFM_WS:-$(dirname "$source_dir")/rfm_ws}"
+source "$(dirname "${BASH_SOURCE[0]}")/workspace.sh"
+rfm_setup
+rfm_activate
 out="${OUT:-/tmp/rfm_demo}"
 mkdir -p "$out"
-set +u
-source "$ws/devel/setup.bash"
-set -u
-rosrun reflectance_field_map rfm_sim --scene "$source_dir/config/scenes/atrium.yaml" \
+rosrun reflectance_field_map rfm_sim --scene "$rfm_source_dir/config/scenes/atrium.yaml" \
   --out "$out/atrium.bag"
 rosrun reflectance_field_map rfm_offline --bag "$out/atrium.bag" --out "$out/map" \
   --theta-view 6.01,-3.6,6.01,3.6

@@ -19,7 +19,8 @@ export PATH=/usr/bin:$PATH
 
 cd "$(dirname "${BASH_SOURCE[0]}")"
 REPO="$(git rev-parse --show-toplevel)"
-RFM_WS="${RFM_WS:-$(dirname "$REPO")/rfm_ws}"
+source "$REPO/scripts/workspace.sh"
+RFM_WS="$rfm_ws"
 OUT="${OUT:-/tmp/rfm_eval}"
 REPORT="${REPORT:-$REPO/doc/evaluation.md}"
 read -r -a OFFLINE <<< "${RFM_OFFLINE:-rosrun reflectance_field_map rfm_offline}"
