@@ -179,10 +179,17 @@ BatchResult processBatch(const std::vector<TimedScan>& input, const MapperOption
 
   if (inspect_field) inspect_field(mapper.field());
   const auto start = std::chrono::steady_clock::now();
-  result.labels.resize(scans.size());
-  for (size_t i = 0; i < scans.size(); ++i) {
-    result.labels[i] = mapper.labelScan(scans[i], /*final_map=*/true);
-    if (progress) progress(std::min(total_steps, ++done), total_steps);
+  // In chunks, so the progress bar moves while the threads label.
+  constexpr size_t kChunk = 256;
+  result.labels.reserve(scans.size());
+  for (size_t first = 0; first < scans.size(); first += kChunk) {
+    const size_t last = std::min(scans.size(), first + kChunk);
+    for (std::vector<RayLabel>& labels :
+         mapper.labelScans(scans.begin() + first, scans.begin() + last, /*final_map=*/true)) {
+      result.labels.push_back(std::move(labels));
+    }
+    done += last - first;
+    if (progress) progress(std::min(total_steps, done), total_steps);
   }
   result.timings.labelling_ms = millisecondsSince(start);
   if (progress) progress(total_steps, total_steps);

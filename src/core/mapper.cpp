@@ -1,5 +1,6 @@
 #include "reflectance_field_map/core/mapper.h"
 
+#include "reflectance_field_map/core/clearance_map.h"
 #include "reflectance_field_map/core/motion_removal.h"
 #include "reflectance_field_map/core/occupancy.h"
 #include "reflectance_field_map/core/ray_classification.h"
@@ -34,15 +35,21 @@ struct Mapper::Impl {
       : rule(options.occupancy, field.geometry().binWidth()),
         remover(rule, static_cast<int>(std::ceil(options.motion_removal.persistence_time *
                                                  options.motion_removal.motion_removal_rate))),
+        runner(std::make_shared<ParallelRunner>(options.insertion.insertion_threads)),
+        inserter(runner),
         classes(static_cast<size_t>(field.window().sizeCells()) * field.window().sizeCells(),
                 CellClass::kUnknown) {}
 
   OccupancyRule rule;
   MotionRemover remover;
+  // Threads shared by insertion (split by theta bin), the reflection check (split by ray) and
+  // batch labelling (split by scan).
+  std::shared_ptr<ParallelRunner> runner;
   ScanInserter inserter;
   // Classes of the active window from the last motion removal, by storage index.
   std::vector<CellClass> classes;
   size_t blocking_cells = 0;     // glass/metal/static cells in `classes`
+  ClearanceMap clearance;        // of `classes`: distance to the nearest non-empty cell
   double last_tick_stamp = 0.0;  // persistence ticks follow the scans' clock
   std::deque<BufferedScan> buffer;
   std::vector<Ray> rays;
@@ -82,6 +89,7 @@ ScanUpdate Mapper::addScan(const TimedScan& scan) {
       }
     }
     if (!impl_->buffer.empty()) impl_->buffer.clear();  // rays refer to the old window
+    updateClearance();
   }
 
   std::vector<Ray>& rays = impl_->rays;
@@ -92,11 +100,20 @@ ScanUpdate Mapper::addScan(const TimedScan& scan) {
 
   auto reflection_start = std::chrono::steady_clock::now();
   if (options_.reflection_removal.reflection_removal_enabled && impl_->blocking_cells > 0) {
-    for (Ray& ray : rays) {
-      if (!truncateAtGlass(ray)) continue;
-      update.labels[ray.beam] = RayLabel::kReflection;
-      ++impl_->stats.reflection_rays;
-    }
+    // Read-only on the field and the classes: the rays split between threads freely.
+    ParallelRunner& runner = *impl_->runner;
+    std::vector<size_t> truncated(runner.threads(), 0);
+    runner.run([&](int part) {
+      const size_t begin = rays.size() * part / runner.threads();
+      const size_t end = rays.size() * (part + 1) / runner.threads();
+      for (size_t i = begin; i < end; ++i) {
+        if (!truncateAtGlass(rays[i])) continue;
+        update.labels[rays[i].beam] = RayLabel::kReflection;
+        ++truncated[part];
+      }
+    });
+    for (size_t count : truncated)
+      impl_->stats.reflection_rays += count;
   }
   update.reflection_ms = millisecondsSince(reflection_start);
 
@@ -136,7 +153,8 @@ MotionRemovalSummary Mapper::removeMotion() {
   std::vector<CellClass>& box_classes = impl_->box_classes;
   if (options_.motion_removal.motion_removal_enabled) {
     static_cast<MotionRemovalCounts&>(summary) = impl_->remover.classify(
-        field_, box, [this](const CellIndex& cell) { return map_.get(cell); }, box_classes);
+        field_, box, [this](const CellIndex& cell) { return map_.get(cell); }, box_classes,
+        impl_->runner.get());
     impl_->stats.free_cells = summary.free_cells;
   } else {
     // Plain eq. 5 projection: occupied, free or unknown.
@@ -171,6 +189,10 @@ MotionRemovalSummary Mapper::removeMotion() {
     stored = now;
   });
   impl_->blocking_cells = blocking;
+  impl_->clearance.compute(box, [&](std::vector<uint8_t>& empty) {
+    for (size_t k = 0; k < box_classes.size(); ++k)
+      empty[k] = box_classes[k] == CellClass::kFree || box_classes[k] == CellClass::kUnknown;
+  });
   map_.assign(box, [&](const CellIndex& cell) {
     return box_classes[static_cast<size_t>(cell.y() - box.min.y()) * box.width() +
                        (cell.x() - box.min.x())];
@@ -237,6 +259,17 @@ void Mapper::revertEvidenceBehindGlass(const CellBox& new_glass) {
   }
 }
 
+void Mapper::updateClearance() {
+  const CellBox box = field_.activeBox();
+  impl_->clearance.compute(box, [&](std::vector<uint8_t>& empty) {
+    size_t i = 0;
+    field_.window().forEachCell(box, [&](int, int, int slot) {
+      const CellClass c = impl_->classes[slot];
+      empty[i++] = c == CellClass::kFree || c == CellClass::kUnknown;
+    });
+  });
+}
+
 void Mapper::undo(const BinUpdate& update) {
   if (update.hit) {
     field_.revertHitAt(update.slot, update.bin);
@@ -275,6 +308,17 @@ std::vector<RayLabel> Mapper::labelScan(const TimedScan& scan, bool final_map) c
   return labels;
 }
 
+std::vector<std::vector<RayLabel>> Mapper::labelScans(ScanIterator first, ScanIterator last,
+                                                      bool final_map) const {
+  std::vector<std::vector<RayLabel>> labels(last - first);
+  ParallelRunner& runner = *impl_->runner;
+  runner.run([&](int part) {
+    for (size_t i = part; i < labels.size(); i += runner.threads())
+      labels[i] = labelScan(first[i], final_map);
+  });
+  return labels;
+}
+
 void Mapper::clipToActiveRegion(std::vector<Ray>& rays) const {
   const CellBox box = field_.activeBox();
   const double resolution = field_.geometry().resolution();
@@ -300,25 +344,56 @@ double Mapper::passThroughDistance(const Ray& ray) const {
   const Eigen::Vector2d delta = ray.end - ray.origin;
   const double length = delta.norm();
   if (length <= tolerance) return -1.0;
-  const Eigen::Vector2d last = ray.origin + delta * ((length - tolerance) / length);
-  const int bins = field_.geometry().thetaBins();
-  walkWindowCells(ray.origin, last, field_.geometry().inverseResolution(), field_.window(), true,
-                  [&](int slot, int x, int y) {
-                    const CellClass c = impl_->classes[slot];
-                    if (c == CellClass::kFree || c == CellClass::kUnknown) {
-                      if (!detector.blocked()) return true;  // the common case, no arithmetic
-                    }
-                    return detector.visit(
-                        {x, y}, c,
-                        [&](int bin) {
-                          // One bin either side: a wall grazed at a shallow angle is hit in
-                          // neighbouring directions.
-                          return field_.isReflectiveAt(slot, bin) ||
-                                 field_.isReflectiveAt(slot, (bin + 1) % bins) ||
-                                 field_.isReflectiveAt(slot, (bin + bins - 1) % bins);
-                        },
-                        [this](const CellIndex& cell) { return cellClass(cell); });
-                  });
+  const double stop = length - tolerance;
+  const Eigen::Vector2d direction = delta / length;
+  const Eigen::Vector2d last = ray.origin + direction * stop;
+  const GridGeometry& geometry = field_.geometry();
+  const double resolution = geometry.resolution();
+  const int bins = geometry.thetaBins();
+  const ClearanceMap& clearance = impl_->clearance;
+  // Free and unknown cells change nothing until the ray is inside a blocking cell, so the walk
+  // leaps over empty space by the clearance and steps cell by cell only near structure.
+  double from = 0.0;  // m along the ray where the next walk starts
+  while (from < stop) {
+    if (!detector.blocked()) {
+      const int clear = clearance.at(geometry.cellOf(ray.origin + direction * from));
+      if (clear >= 2) {
+        // Every cell within clear - 1 of the current one is empty: so is the ray's stretch.
+        from += (clear - 1) * resolution;
+        continue;
+      }
+    }
+    double resume = stop;  // where the walk hands back to leaping, if it does
+    walkWindowCells(
+        ray.origin + direction * from, last, geometry.inverseResolution(), field_.window(), true,
+        [&](int slot, int x, int y) {
+          const CellClass c = impl_->classes[slot];
+          auto reflective_near = [&](int bin) {
+            // One bin either side: a wall grazed at a shallow angle is hit in neighbouring
+            // directions.
+            return field_.isReflectiveAt(slot, bin) ||
+                   field_.isReflectiveAt(slot, (bin + 1) % bins) ||
+                   field_.isReflectiveAt(slot, (bin + bins - 1) % bins);
+          };
+          auto class_of = [this](const CellIndex& cell) { return cellClass(cell); };
+          if (c == CellClass::kFree || c == CellClass::kUnknown) {
+            if (detector.blocked()) return detector.visit({x, y}, c, reflective_near, class_of);
+            // Well clear of structure again: leap from here (the cell centre's projection lies
+            // in this cell or a neighbour, all of them empty).
+            if (clearance.at({x, y}) >= 4) {
+              const double along = (geometry.cellCenter({x, y}) - ray.origin).dot(direction);
+              if (along > from + resolution) {
+                resume = along;
+                return false;
+              }
+            }
+            return true;
+          }
+          return detector.visit({x, y}, c, reflective_near, class_of);
+        });
+    from = resume;
+    if (detector.distance() >= 0.0 || resume >= stop) break;
+  }
   return detector.distance();
 }
 
@@ -345,6 +420,7 @@ void Mapper::reset() {
   map_.clear();
   std::fill(impl_->classes.begin(), impl_->classes.end(), CellClass::kUnknown);
   impl_->blocking_cells = 0;
+  impl_->clearance.clear();
   impl_->buffer.clear();
   impl_->stats = MapperStats();
 }
@@ -368,6 +444,7 @@ bool Mapper::load(std::istream& in) {
   // The window is placed afresh by the next scan; its classes then come from the loaded map.
   std::fill(impl_->classes.begin(), impl_->classes.end(), CellClass::kUnknown);
   impl_->blocking_cells = 0;
+  impl_->clearance.clear();
   impl_->buffer.clear();
   return true;
 }

@@ -9,18 +9,20 @@ bool binIntervalsOverlap(int a, int a_len, int b, int b_len, int bins) {
   return positiveMod(b - a, bins) < a_len || positiveMod(a - b, bins) < b_len;
 }
 
-void MotionRemover::collectRuns(const ReflectanceField& field, const CellBox& box) {
+void MotionRemover::collectRuns(const ReflectanceField& field, const CellBox& box, const Band& band,
+                                std::vector<Run>& runs) {
   const int bins = field.geometry().thetaBins();
-  runs_.clear();
-  slots_.resize(static_cast<size_t>(box.width()) * box.height());
-  cell_first_run_.assign(slots_.size() + 1, 0);
-  size_t local = 0;
-  field.window().forEachCell(box, [&](int, int, int slot) {
+  const int width = box.width();
+  runs.clear();
+  size_t local = static_cast<size_t>(band.first_row) * width;
+  const CellBox rows{{box.min.x(), box.min.y() + band.first_row},
+                     {box.max.x(), box.min.y() + band.end_row}};
+  field.window().forEachCell(rows, [&](int, int, int slot) {
     slots_[local] = slot;
-    cell_first_run_[local++] = static_cast<uint32_t>(runs_.size());
+    cell_first_run_[local++] = static_cast<uint32_t>(runs.size());  // band-relative for now
     if (!field.anyReflectiveAt(slot)) return;
     const uint64_t* mask = field.reflectiveMaskAt(slot);
-    const size_t first = runs_.size();
+    const size_t first = runs.size();
     int bin = 0;
     while (bin < bins) {
       const uint64_t word = mask[bin >> 6] >> (bin & 63);
@@ -33,16 +35,15 @@ void MotionRemover::collectRuns(const ReflectanceField& field, const CellBox& bo
       const int start = bin;
       while (bin < bins && ((mask[bin >> 6] >> (bin & 63)) & 1u))
         ++bin;
-      runs_.push_back({static_cast<int16_t>(start), static_cast<int16_t>(bin - start)});
+      runs.push_back({static_cast<int16_t>(start), static_cast<int16_t>(bin - start)});
     }
     // A run ending at the last bin continues into the one starting at bin 0.
-    if (runs_.size() - first >= 2 && runs_[first].first_bin == 0 &&
-        runs_.back().first_bin + runs_.back().length == bins) {
-      runs_.back().length = static_cast<int16_t>(runs_.back().length + runs_[first].length);
-      runs_.erase(runs_.begin() + static_cast<std::ptrdiff_t>(first));
+    if (runs.size() - first >= 2 && runs[first].first_bin == 0 &&
+        runs.back().first_bin + runs.back().length == bins) {
+      runs.back().length = static_cast<int16_t>(runs.back().length + runs[first].length);
+      runs.erase(runs.begin() + static_cast<std::ptrdiff_t>(first));
     }
   });
-  cell_first_run_[local] = static_cast<uint32_t>(runs_.size());
 }
 
 uint32_t MotionRemover::find(uint32_t node) {
@@ -75,24 +76,33 @@ bool MotionRemover::widelyVisible(const ReflectanceField& field, int slot,
   return field.marginalOddsAt(slot) > rule_.options().beta;
 }
 
-MotionRemovalCounts MotionRemover::classify(
-    const ReflectanceField& field, const CellBox& box,
-    const std::function<CellClass(const CellIndex&)>& outside, std::vector<CellClass>& classes) {
+void MotionRemover::uniteNeighbour(size_t local, size_t n_local, int bins) {
+  for (uint32_t r = cell_first_run_[local]; r < cell_first_run_[local + 1]; ++r) {
+    // Dilate by one bin on each side: neighbouring bins are 26-connected.
+    const int dilated_first = runs_[r].first_bin - 1;
+    const int dilated_length = runs_[r].length + 2;
+    for (uint32_t s = cell_first_run_[n_local]; s < cell_first_run_[n_local + 1]; ++s) {
+      if (binIntervalsOverlap(dilated_first, dilated_length, runs_[s].first_bin, runs_[s].length,
+                              bins)) {
+        unite(r, s);
+      }
+    }
+  }
+}
+
+void MotionRemover::joinBand(const ReflectanceField& field, const CellBox& box, const Band& band,
+                             const std::function<CellClass(const CellIndex&)>& outside) {
   const int bins = field.geometry().thetaBins();
   const int width = box.width();
-  collectRuns(field, box);
-  parent_.resize(runs_.size());
-  for (uint32_t i = 0; i < parent_.size(); ++i)
-    parent_[i] = i;
-  rank_.assign(runs_.size(), 0);
-  anchored_.assign(runs_.size(), 0);
-
-  std::vector<uint8_t> widely_visible(static_cast<size_t>(width) * box.height(), 0);
+  // Forward neighbours only (each pair once); the row after the band belongs to the next band,
+  // which joinRows connects afterwards.
   const CellIndex forward[4] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}};
   const CellIndex around[8] = {{1, 0}, {-1, 0}, {0, 1},  {0, -1},
                                {1, 1}, {-1, 1}, {1, -1}, {-1, -1}};
-  size_t local = 0;
-  for (int y = box.min.y(); y < box.max.y(); ++y) {
+  const CellBox band_box{{box.min.x(), box.min.y() + band.first_row},
+                         {box.max.x(), box.min.y() + band.end_row}};
+  size_t local = static_cast<size_t>(band.first_row) * width;
+  for (int y = band_box.min.y(); y < band_box.max.y(); ++y) {
     for (int x = box.min.x(); x < box.max.x(); ++x, ++local) {
       const uint32_t first = cell_first_run_[local], last = cell_first_run_[local + 1];
       if (first == last) continue;
@@ -102,7 +112,7 @@ MotionRemovalCounts MotionRemover::classify(
         reflective += runs_[r].length;
       const int slot = slots_[local];
       const bool anchor = widelyVisible(field, slot, reflective);
-      widely_visible[local] = anchor;
+      widely_visible_[local] = anchor;
       bool seeded =
           anchor || (persistence_ticks_ > 0 && field.confirmedTicksAt(slot) >= persistence_ticks_);
       // Known obstacles just outside the box seed components crossing its border.
@@ -124,54 +134,121 @@ MotionRemovalCounts MotionRemover::classify(
       }
       for (const CellIndex& d : forward) {
         const CellIndex n = cell + d;
-        if (!box.contains(n)) continue;
-        const size_t n_local =
-            static_cast<size_t>(n.y() - box.min.y()) * width + (n.x() - box.min.x());
-        for (uint32_t r = first; r < last; ++r) {
-          // Dilate by one bin on each side: neighbouring bins are 26-connected.
-          const int dilated_first = runs_[r].first_bin - 1;
-          const int dilated_length = runs_[r].length + 2;
-          for (uint32_t s = cell_first_run_[n_local]; s < cell_first_run_[n_local + 1]; ++s) {
-            if (binIntervalsOverlap(dilated_first, dilated_length, runs_[s].first_bin,
-                                    runs_[s].length, bins)) {
-              unite(r, s);
-            }
-          }
-        }
+        if (!band_box.contains(n)) continue;
+        uniteNeighbour(
+            local, static_cast<size_t>(n.y() - box.min.y()) * width + (n.x() - box.min.x()), bins);
       }
     }
   }
+}
+
+void MotionRemover::joinRows(const CellBox& box, int row, int bins) {
+  const int width = box.width();
+  const size_t row_start = static_cast<size_t>(row) * width;
+  for (int x = 0; x < width; ++x) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      if (x + dx < 0 || x + dx >= width) continue;
+      uniteNeighbour(row_start + x, row_start + width + x + dx, bins);
+    }
+  }
+}
+
+void MotionRemover::classifyBand(const ReflectanceField& field, const CellBox& box,
+                                 const Band& band, std::vector<CellClass>& classes,
+                                 MotionRemovalCounts& counts) const {
+  const size_t width = box.width();
+  for (size_t local = band.first_row * width; local < band.end_row * width; ++local) {
+    const uint32_t first = cell_first_run_[local], last = cell_first_run_[local + 1];
+    int reflective = 0, widest = 0;
+    bool anchored = false;
+    for (uint32_t r = first; r < last; ++r) {
+      reflective += runs_[r].length;
+      widest = std::max<int>(widest, runs_[r].length);
+      anchored |= anchored_[root_[r]] != 0;
+    }
+    CellClass& c = classes[local];
+    if (!rule_.isOccupied(reflective)) {
+      c = field.missedBinsAt(slots_[local]) > 0 ? CellClass::kFree : CellClass::kUnknown;
+      counts.free_cells += c == CellClass::kFree;
+    } else if (widely_visible_[local]) {
+      c = CellClass::kStatic;
+      ++counts.static_cells;
+    } else if (anchored) {
+      c = rule_.isMetalLobe(widest) ? CellClass::kMetal : CellClass::kGlass;
+      ++(c == CellClass::kMetal ? counts.metal_cells : counts.glass_cells);
+    } else {
+      c = CellClass::kMotion;
+      ++counts.motion_cells;
+    }
+  }
+}
+
+MotionRemovalCounts MotionRemover::classify(
+    const ReflectanceField& field, const CellBox& box,
+    const std::function<CellClass(const CellIndex&)>& outside, std::vector<CellClass>& classes,
+    ParallelRunner* runner) {
+  const int bins = field.geometry().thetaBins();
+  const size_t cells = static_cast<size_t>(box.width()) * box.height();
+  // Bands of rows, one per thread.
+  const int parts = runner ? std::min(runner->threads(), std::max(box.height(), 1)) : 1;
+  std::vector<Band> bands(parts);
+  for (int p = 0; p < parts; ++p)
+    bands[p] = {box.height() * p / parts, box.height() * (p + 1) / parts};
+  auto forEachBand = [&](const std::function<void(int)>& body) {
+    if (parts == 1) {
+      body(0);
+    } else {
+      runner->run([&](int part) {
+        if (part < parts) body(part);
+      });
+    }
+  };
+
+  // Runs per band, then one run list with global indices.
+  slots_.resize(cells);
+  cell_first_run_.assign(cells + 1, 0);
+  band_runs_.resize(parts);
+  forEachBand([&](int p) { collectRuns(field, box, bands[p], band_runs_[p]); });
+  std::vector<uint32_t> band_offset(parts + 1, 0);
+  for (int p = 0; p < parts; ++p)
+    band_offset[p + 1] = band_offset[p] + static_cast<uint32_t>(band_runs_[p].size());
+  runs_.resize(band_offset[parts]);
+  cell_first_run_[cells] = band_offset[parts];
+  forEachBand([&](int p) {
+    std::copy(band_runs_[p].begin(), band_runs_[p].end(), runs_.begin() + band_offset[p]);
+    const size_t begin = static_cast<size_t>(bands[p].first_row) * box.width();
+    const size_t end = static_cast<size_t>(bands[p].end_row) * box.width();
+    for (size_t local = begin; local < end; ++local)
+      cell_first_run_[local] += band_offset[p];
+  });
+
+  parent_.resize(runs_.size());
+  for (uint32_t i = 0; i < parent_.size(); ++i)
+    parent_[i] = i;
+  rank_.assign(runs_.size(), 0);
+  anchored_.assign(runs_.size(), 0);
+  widely_visible_.assign(cells, 0);
+  // Each band unites only its own runs, so bands do not touch each other's trees.
+  forEachBand([&](int p) { joinBand(field, box, bands[p], outside); });
+  for (int p = 0; p + 1 < parts; ++p) {
+    if (bands[p].end_row > bands[p].first_row) joinRows(box, bands[p].end_row - 1, bins);
+  }
 
   MotionRemovalCounts counts;
-  for (uint32_t r = 0; r < runs_.size(); ++r)
-    counts.components += find(r) == r;
-  classes.assign(static_cast<size_t>(width) * box.height(), CellClass::kUnknown);
-  local = 0;
-  for (int y = box.min.y(); y < box.max.y(); ++y) {
-    for (int x = box.min.x(); x < box.max.x(); ++x, ++local) {
-      const uint32_t first = cell_first_run_[local], last = cell_first_run_[local + 1];
-      int reflective = 0, widest = 0;
-      bool anchored = false;
-      for (uint32_t r = first; r < last; ++r) {
-        reflective += runs_[r].length;
-        widest = std::max<int>(widest, runs_[r].length);
-        anchored |= anchored_[find(r)] != 0;
-      }
-      CellClass& c = classes[local];
-      if (!rule_.isOccupied(reflective)) {
-        c = field.missedBinsAt(slots_[local]) > 0 ? CellClass::kFree : CellClass::kUnknown;
-        counts.free_cells += c == CellClass::kFree;
-      } else if (widely_visible[local]) {
-        c = CellClass::kStatic;
-        ++counts.static_cells;
-      } else if (anchored) {
-        c = rule_.isMetalLobe(widest) ? CellClass::kMetal : CellClass::kGlass;
-        ++(c == CellClass::kMetal ? counts.metal_cells : counts.glass_cells);
-      } else {
-        c = CellClass::kMotion;
-        ++counts.motion_cells;
-      }
-    }
+  root_.resize(runs_.size());
+  for (uint32_t r = 0; r < runs_.size(); ++r) {
+    root_[r] = find(r);
+    counts.components += root_[r] == r;
+  }
+  classes.assign(cells, CellClass::kUnknown);
+  std::vector<MotionRemovalCounts> band_counts(parts);
+  forEachBand([&](int p) { classifyBand(field, box, bands[p], classes, band_counts[p]); });
+  for (const MotionRemovalCounts& c : band_counts) {
+    counts.static_cells += c.static_cells;
+    counts.glass_cells += c.glass_cells;
+    counts.metal_cells += c.metal_cells;
+    counts.motion_cells += c.motion_cells;
+    counts.free_cells += c.free_cells;
   }
   return counts;
 }

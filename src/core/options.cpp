@@ -46,6 +46,7 @@ void LogOddsOptions::validate() const {
 
 void InsertionOptions::validate() const {
   requireRange("clearing_distance", clearing_distance, 0.0, 100.0);
+  requireRange("insertion_threads", insertion_threads, 1, 16);
 }
 
 void ActiveRegionOptions::validate() const {
@@ -128,6 +129,10 @@ const std::vector<FieldAccess>& accessTable() {
       {{"clearing_distance", "misses for beams with no return (m)", T::kDouble},
        [](MapperOptions& o) -> double& { return o.insertion.clearing_distance; },
        {},
+       {}},
+      {{"insertion_threads", "threads inserting a scan, split by theta bin", T::kInt},
+       {},
+       [](MapperOptions& o) -> int& { return o.insertion.insertion_threads; },
        {}},
       {{"active_region_radius", "robot-centred region updated each scan (m)", T::kDouble},
        [](MapperOptions& o) -> double& { return o.active_region.active_region_radius; },

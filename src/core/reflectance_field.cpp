@@ -40,7 +40,7 @@ ReflectanceField::ReflectanceField(const GridOptions& grid, const LogOddsOptions
       reflective_masks_(plane_ * mask_words_, 0),
       missed_bins_(plane_, 0),
       hit_since_tick_(plane_, 0),
-      any_reflective_(plane_, 0),
+      reflective_bins_(plane_, 0),
       confirmed_ticks_(plane_, 0) {}
 
 WindowShift ReflectanceField::recenter(const Eigen::Vector2d& robot_position) {
@@ -90,8 +90,8 @@ double ReflectanceField::marginalOddsAt(int storage_index) const {
 
 size_t ReflectanceField::activeBytes() const {
   return bins_.size() * sizeof(int8_t) + reflective_masks_.size() * sizeof(uint64_t) +
-         missed_bins_.size() * sizeof(uint16_t) + hit_since_tick_.size() + any_reflective_.size() +
-         confirmed_ticks_.size();
+         missed_bins_.size() * sizeof(uint16_t) + hit_since_tick_.size() +
+         reflective_bins_.size() * sizeof(uint16_t) + confirmed_ticks_.size();
 }
 
 void ReflectanceField::clear() {
@@ -99,7 +99,7 @@ void ReflectanceField::clear() {
   std::fill(reflective_masks_.begin(), reflective_masks_.end(), 0);
   std::fill(missed_bins_.begin(), missed_bins_.end(), 0);
   std::fill(hit_since_tick_.begin(), hit_since_tick_.end(), 0);
-  std::fill(any_reflective_.begin(), any_reflective_.end(), 0);
+  std::fill(reflective_bins_.begin(), reflective_bins_.end(), 0);
   std::fill(confirmed_ticks_.begin(), confirmed_ticks_.end(), 0);
   archive_.clear();
   centred_ = false;
@@ -142,7 +142,7 @@ void ReflectanceField::clearTileStorage(const TileIndex& tile) {
   }
   std::fill_n(&missed_bins_[first], cells, 0);
   std::fill_n(&hit_since_tick_[first], cells, 0);
-  std::fill_n(&any_reflective_[first], cells, 0);
+  std::fill_n(&reflective_bins_[first], cells, 0);
   std::fill_n(&confirmed_ticks_[first], cells, 0);
   std::fill_n(&reflective_masks_[first * mask_words_], cells * mask_words_, 0);
 }
@@ -167,23 +167,21 @@ void ReflectanceField::rebuildSummaries(const TileIndex& tile) {
 void ReflectanceField::rebuildCellSummary(int storage_index) {
   uint64_t* mask = &reflective_masks_[static_cast<size_t>(storage_index) * mask_words_];
   std::fill(mask, mask + mask_words_, 0);
-  uint16_t missed = 0;
+  uint16_t missed = 0, reflective = 0;
   for (int bin = 0; bin < theta_bins_; ++bin) {
     const int8_t v = bins_[bin * plane_ + storage_index];
     if (v > 0) mask[bin >> 6] |= uint64_t{1} << (bin & 63);
-    if (v < 0) ++missed;
+    reflective += v > 0;
+    missed += v < 0;
   }
   missed_bins_[storage_index] = missed;
-  bool any = false;
-  for (int w = 0; w < mask_words_; ++w)
-    any |= mask[w] != 0;
-  any_reflective_[storage_index] = any;
+  reflective_bins_[storage_index] = reflective;
 }
 
 void ReflectanceField::tickPersistence() {
   for (size_t index = 0; index < plane_; ++index) {
     uint8_t& ticks = confirmed_ticks_[index];
-    if (!any_reflective_[index]) {
+    if (!reflective_bins_[index]) {
       ticks = 0;
     } else if (hit_since_tick_[index] && ticks < 255) {
       ++ticks;  // not hit (occluded, out of view): held, neither confirmed nor reset

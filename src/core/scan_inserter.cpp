@@ -8,7 +8,8 @@ namespace {
 
 struct FieldTarget {
   ReflectanceField& field;
-  ReflectanceField::SliceWriter writer(int bin) { return field.sliceWriter(bin); }
+  std::vector<ReflectanceField::SummaryChange>* deferred;  // null: apply summaries at once
+  ReflectanceField::SliceWriter writer(int bin) { return field.sliceWriter(bin, deferred); }
 };
 
 }  // namespace
@@ -30,9 +31,17 @@ void bucketRaysByBin(const std::vector<Ray>& rays, const GridGeometry& geometry,
     order[next[ray_bins[i]]++] = static_cast<uint32_t>(i);
 }
 
-template <typename Target>
+ScanInserter::ScanInserter(int threads)
+    : ScanInserter(threads > 1 ? std::make_shared<ParallelRunner>(threads) : nullptr) {}
+
+ScanInserter::ScanInserter(std::shared_ptr<ParallelRunner> runner)
+    : inserters_(runner ? runner->threads() : 1), runner_(std::move(runner)) {}
+
+ScanInserter::~ScanInserter() = default;
+
+template <typename MakeTarget>
 void ScanInserter::run(const std::vector<Ray>& rays, const ReflectanceField& field,
-                       Target& target) {
+                       MakeTarget&& make_target, bool parallel) {
   const CellBox box = field.activeBox();
   const double resolution = field.geometry().resolution();
   clipped_.clear();
@@ -41,14 +50,60 @@ void ScanInserter::run(const std::vector<Ray>& rays, const ReflectanceField& fie
     if (clipRayToBox(box, resolution, clipped)) clipped_.push_back(clipped);
   }
   bucketRaysByBin(clipped_, field.geometry(), order_, group_begin_);
-  inserter_.insert(field.window(), field.geometry().inverseResolution(), clipped_, order_,
-                   group_begin_, target);
+  const double inverse_resolution = field.geometry().inverseResolution();
+  // Too few rays are not worth waking a helper for.
+  constexpr size_t kMinRaysToSplit = 64;
+  if (!parallel || !runner_ || runner_->threads() == 1 || clipped_.size() < kMinRaysToSplit) {
+    auto&& target = make_target(-1);
+    inserters_[0].insert(field.window(), inverse_resolution, clipped_, order_, group_begin_,
+                         target);
+    updates_ = inserters_[0].updates();
+    return;
+  }
+  // Contiguous bin ranges with about the same work each: the cells the rays cross.
+  const int parts = runner_->threads();
+  const size_t groups = group_begin_.size() - 1;
+  group_work_.assign(groups + 1, 0.0);
+  for (size_t g = 0; g < groups; ++g) {
+    double work = 0.0;
+    for (uint32_t k = group_begin_[g]; k < group_begin_[g + 1]; ++k) {
+      const Eigen::Vector2d delta = clipped_[order_[k]].end - clipped_[order_[k]].origin;
+      work += std::abs(delta.x()) + std::abs(delta.y());
+    }
+    group_work_[g + 1] = group_work_[g] + work;
+  }
+  std::vector<size_t> first_group(parts + 1, groups);
+  first_group[0] = 0;
+  for (int p = 1, g = 0; p < parts; ++p) {
+    const double share = group_work_[groups] * p / parts;
+    while (group_work_[g] < share)
+      ++g;
+    first_group[p] = g;
+  }
+  runner_->run([&](int part) {
+    auto&& target = make_target(part);
+    inserters_[part].insert(field.window(), inverse_resolution, clipped_, order_, group_begin_,
+                            target, first_group[part], first_group[part + 1]);
+  });
+  updates_ = 0;
+  for (int p = 0; p < parts; ++p)
+    updates_ += inserters_[p].updates();
 }
 
 size_t ScanInserter::insert(const std::vector<Ray>& rays, ReflectanceField& field) {
-  FieldTarget target{field};
-  run(rays, field, target);
-  return inserter_.updates();
+  deferred_.resize(inserters_.size());
+  for (auto& changes : deferred_)
+    changes.clear();
+  // Part -1 is the caller alone; parts running side by side defer their summary changes.
+  run(
+      rays, field,
+      [&](int part) {
+        return FieldTarget{field, part < 0 ? nullptr : &deferred_[part]};
+      },
+      /*parallel=*/true);
+  for (const auto& changes : deferred_)
+    field.applySummaryChanges(changes);
+  return updates_;
 }
 
 void ScanInserter::collectUpdates(const std::vector<Ray>& rays, const ReflectanceField& field,
@@ -64,7 +119,9 @@ void ScanInserter::collectUpdates(const std::vector<Ray>& rays, const Reflectanc
     Writer writer(int bin) { return {out, static_cast<int16_t>(bin)}; }
   } recorder{updates};
   updates.clear();
-  run(rays, field, recorder);
+  // The recorder is not thread-safe.
+  run(
+      rays, field, [&](int) -> Recorder& { return recorder; }, /*parallel=*/false);
   std::sort(updates.begin(), updates.end());
 }
 

@@ -32,10 +32,11 @@ void reportRays(benchmark::State& state) {
   state.counters["mean_ray_cells"] = static_cast<double>(cells) / rays;
 }
 
+// Argument: insertion threads (the default options use 2; 1 shows the single-thread cost).
 void BM_RfmInsert(benchmark::State& state) {
   const MapperOptions options;
   ReflectanceField field(options.grid, options.log_odds, options.active_region);
-  ScanInserter inserter;
+  ScanInserter inserter(static_cast<int>(state.range(0)));
   size_t i = 0;
   for (auto _ : state) {
     const auto& s = scans()[i++ % scans().size()];
@@ -45,7 +46,7 @@ void BM_RfmInsert(benchmark::State& state) {
   reportRays(state);
   state.counters["active_region_MB"] = field.activeBytes() / 1e6;
 }
-BENCHMARK(BM_RfmInsert)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RfmInsert)->Arg(2)->Arg(1)->Unit(benchmark::kMillisecond);
 
 void BM_PlainGridInsert(benchmark::State& state) {
   const MapperOptions options;

@@ -110,6 +110,39 @@ TEST(MotionRemover, KnownObstaclesOutsideTheBoxSeedComponents) {
   EXPECT_EQ(f.classify(border), CellClass::kMotion);
 }
 
+// Bands of rows on several threads, joined across their borders, give the classes of one
+// thread: components here cross every band border (vertical strokes, a diagonal through theta)
+// and some are anchored only in a band other than their own cells'.
+TEST(MotionRemover, ThreadsGiveTheClassesOfOneThread) {
+  DirectField f;
+  const CellBox box = f.field.activeBox();
+  for (int y = box.min.y(); y < box.max.y(); ++y) {
+    f.hit({0, y}, 10, 2);                              // one long stroke through all bands
+    f.hit({5, y}, positiveMod(y, 180), 2);             // a stroke turning through theta
+    if (y % 7 != 0) f.hit({-10 + (y % 3), y}, 90, 2);  // broken into pieces
+  }
+  for (int bin = 0; bin < 180; bin += 2)
+    f.hit({0, box.max.y() - 1}, bin);  // widely visible: anchors the first stroke, far away
+  for (int x = box.min.x(); x < box.max.x(); x += 3)
+    f.hit({x, -x / 4}, 40, 2);  // scattered hits
+  const OccupancyRule rule(OccupancyOptions(), f.field.geometry().binWidth());
+  auto outside = [](const CellIndex&) { return CellClass::kUnknown; };
+  std::vector<CellClass> one, several;
+  MotionRemover single(rule), banded(rule);
+  const MotionRemovalCounts a = single.classify(f.field, box, outside, one);
+  for (int threads : {2, 3, 7}) {
+    ParallelRunner runner(threads);
+    const MotionRemovalCounts b = banded.classify(f.field, box, outside, several, &runner);
+    EXPECT_EQ(one, several) << threads;
+    EXPECT_EQ(a.components, b.components) << threads;
+    EXPECT_EQ(a.motion_cells, b.motion_cells) << threads;
+    EXPECT_EQ(a.glass_cells, b.glass_cells) << threads;
+    EXPECT_EQ(a.static_cells, b.static_cells) << threads;
+  }
+  EXPECT_GE(a.glass_cells, static_cast<size_t>(box.height() - 1));  // the anchored stroke
+  EXPECT_GT(a.motion_cells, static_cast<size_t>(box.height()));     // the others
+}
+
 // Fig. 2: a freestanding pane with frames passed by the robot: the frames are widely visible,
 // the face is reflective only near its normal (the H), and the face is classified glass.
 TEST(MotionRemoval, FreestandingPaneIsGlassWithTheHShape) {

@@ -22,6 +22,7 @@ TEST(MapperOptions, EveryBadValueIsRejectedNamingTheField) {
       {"log_odds_min", {0.0, 1.0, -9.0}},
       {"log_odds_max", {0.0, -1.0, 9.0}},
       {"clearing_distance", {-1.0, 1000.0, nan}},
+      {"insertion_threads", {0, -1, 17}},
       {"active_region_radius", {0.0, -3.0, 1000.0, 1.2}},
       {"alpha", {-0.1, 7.0}},
       {"beta", {0.0, 6.0, -1.0}},

@@ -93,6 +93,49 @@ TEST(ScanInserter, SeveralSensorsWithTheirOwnPoses) {
   EXPECT_LT(std::min(f.field.value(behind, backwards), f.field.value(behind, backwards - 1)), 0);
 }
 
+// Two threads, each writing its own theta bins, leave the field exactly as one thread does:
+// bins, reflective masks and the per-cell counts.
+TEST(ScanInserter, TwoThreadsGiveTheFieldOfOne) {
+  SyntheticWorld world;
+  world.addFramedPane({3.0, -4.0}, {3.0, 4.0});
+  world.addWall({6.0, -8.0}, {6.0, 8.0});
+  world.addWall({-5.0, -8.0}, {-5.0, 8.0});
+  ActiveRegionOptions region;
+  region.active_region_radius = 12.0;
+  ReflectanceField single(GridOptions(), LogOddsOptions(), region);
+  ReflectanceField parallel(GridOptions(), LogOddsOptions(), region);
+  ScanInserter one(1), two(2);
+  single.recenter({0, 0});
+  parallel.recenter({0, 0});
+  std::vector<Ray> rays;
+  size_t updates_one = 0, updates_two = 0;
+  for (const Pose2D& pose : testing::straightPath({0.0, -6.0}, {0.0, 6.0}, 60, 0.3)) {
+    scanToRays(world.scan(pose), pose, InsertionOptions(), rays);
+    updates_one += one.insert(rays, single);
+    updates_two += two.insert(rays, parallel);
+  }
+  EXPECT_EQ(updates_one, updates_two);
+  EXPECT_GT(updates_one, 0u);
+  const CellBox box = single.activeBox();
+  int differing = 0, reflective = 0;
+  for (int y = box.min.y(); y < box.max.y(); ++y) {
+    for (int x = box.min.x(); x < box.max.x(); ++x) {
+      const CellIndex cell(x, y);
+      const int slot = single.window().storageIndex(cell);
+      bool same = single.missedBins(cell) == parallel.missedBins(cell) &&
+                  single.reflectiveBinsAt(slot) == parallel.reflectiveBinsAt(slot) &&
+                  single.reflectiveBins(cell) == single.reflectiveBinsAt(slot);
+      for (int bin = 0; bin < single.geometry().thetaBins(); ++bin)
+        same = same && single.value(cell, bin) == parallel.value(cell, bin) &&
+               single.isReflective(cell, bin) == parallel.isReflective(cell, bin);
+      differing += !same;
+      reflective += single.reflectiveBinsAt(slot) > 0;
+    }
+  }
+  EXPECT_EQ(differing, 0);
+  EXPECT_GT(reflective, 100);
+}
+
 // The paper's core claim (Sec. III): a pane seen only near its normal, and passed through from
 // every other direction, stays an obstacle in the RFM but is erased by an occupancy grid.
 TEST(GlassPane, StaysOccupiedInTheRfmButIsErasedInThePlainGrid) {

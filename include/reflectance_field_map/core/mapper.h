@@ -94,6 +94,10 @@ class Mapper {
   // did not survive (free or unknown) is removed as MOTION too; live, it is kept until motion
   // removal has judged it.
   std::vector<RayLabel> labelScan(const TimedScan& scan, bool final_map = false) const;
+  // labelScan of the scans [first, last), on the mapper's threads.
+  using ScanIterator = std::vector<TimedScan>::const_iterator;
+  std::vector<std::vector<RayLabel>> labelScans(ScanIterator first, ScanIterator last,
+                                                bool final_map = false) const;
 
   // Discards all reflectance evidence but keeps the current classes, so the next scans are
   // checked against the glass found so far (batch re-processing, Alg. 3 step 2).
@@ -112,6 +116,8 @@ class Mapper {
   void undo(const BinUpdate& update);
   void redo(const BinUpdate& update);
   void tickPersistenceIfDue(double stamp);
+  // Recomputes the clearance of the window's classes (after they changed).
+  void updateClearance();
   // Limits rays to the active-region radius around their sensor and to the window (the walks
   // below need rays inside it); a ray cut short loses its hit.
   void clipToActiveRegion(std::vector<Ray>& rays) const;

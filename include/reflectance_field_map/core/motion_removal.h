@@ -2,6 +2,7 @@
 
 #include "reflectance_field_map/core/cell_class.h"
 #include "reflectance_field_map/core/occupancy.h"
+#include "reflectance_field_map/core/parallel_runner.h"
 #include "reflectance_field_map/core/reflectance_field.h"
 
 #include <cstdint>
@@ -33,17 +34,31 @@ class MotionRemover {
       : rule_(rule), persistence_ticks_(persistence_ticks) {}
 
   // Classifies every cell of `box` (inside the field's active window) into `classes`
-  // (row-major, x fastest). `outside` gives the known class of cells just outside the box.
+  // (row-major, x fastest). `outside` gives the known class of cells just outside the box and
+  // must be safe to call from several threads. With a `runner`, bands of rows are processed
+  // on its threads: components are joined within each band, then across band borders.
   MotionRemovalCounts classify(const ReflectanceField& field, const CellBox& box,
                                const std::function<CellClass(const CellIndex&)>& outside,
-                               std::vector<CellClass>& classes);
+                               std::vector<CellClass>& classes, ParallelRunner* runner = nullptr);
 
  private:
   struct Run {
     int16_t first_bin;
     int16_t length;  // may wrap past the last bin
   };
-  void collectRuns(const ReflectanceField& field, const CellBox& box);
+  // Rows [first_row, end_row) of the box, relative to box.min.y().
+  struct Band {
+    int first_row, end_row;
+  };
+  void collectRuns(const ReflectanceField& field, const CellBox& box, const Band& band,
+                   std::vector<Run>& runs);
+  void joinBand(const ReflectanceField& field, const CellBox& box, const Band& band,
+                const std::function<CellClass(const CellIndex&)>& outside);
+  // Unites the runs of row `row` with those of the next row (the border between two bands).
+  void joinRows(const CellBox& box, int row, int bins);
+  void uniteNeighbour(size_t local, size_t n_local, int bins);
+  void classifyBand(const ReflectanceField& field, const CellBox& box, const Band& band,
+                    std::vector<CellClass>& classes, MotionRemovalCounts& counts) const;
   uint32_t find(uint32_t node);
   void unite(uint32_t a, uint32_t b);
   bool widelyVisible(const ReflectanceField& field, int slot, int reflective_bins) const;
@@ -51,11 +66,14 @@ class MotionRemover {
   OccupancyRule rule_;
   int persistence_ticks_;
   std::vector<Run> runs_;
-  std::vector<uint32_t> cell_first_run_;  // CSR over box cells, size cells + 1
-  std::vector<int> slots_;                // storage slot of each box cell
+  std::vector<std::vector<Run>> band_runs_;  // per band, before joining into runs_
+  std::vector<uint32_t> cell_first_run_;     // CSR over box cells, size cells + 1
+  std::vector<int> slots_;                   // storage slot of each box cell
   std::vector<uint32_t> parent_;
   std::vector<uint8_t> rank_;
-  std::vector<uint8_t> anchored_;  // per root: touches a widely visible or known static cell
+  std::vector<uint8_t> anchored_;        // per root: touches a widely visible or known static cell
+  std::vector<uint32_t> root_;           // final root of each run
+  std::vector<uint8_t> widely_visible_;  // per box cell
 };
 
 // True when circular bin intervals [a, a + a_len) and [b, b + b_len) share a bin.

@@ -42,6 +42,8 @@ struct InsertionOptions {
   // Misses are added up to this distance for beams with nothing within range (+inf or
   // >= range_max, REP-117), and no hit.
   double clearing_distance = 4.0;  // m
+  // Threads that insert a scan, each taking its own theta bins (1 = the caller only).
+  int insertion_threads = 2;
   void validate() const;
 };
 

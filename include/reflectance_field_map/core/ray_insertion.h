@@ -5,6 +5,7 @@
 #include "reflectance_field_map/core/ray_traversal.h"
 #include "reflectance_field_map/core/rolling_window.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -25,11 +26,13 @@ bool clipRayToBox(const CellBox& box, double resolution, Ray& ray);
 class DeduplicatingRayInserter {
  public:
   // For each group g, `target.writer(g)` returns an object with hit(slot) and miss(slot).
-  // `rays` are already clipped; `group_begin[g]..group_begin[g+1]` index `order`.
+  // `rays` are already clipped; `group_begin[g]..group_begin[g+1]` index `order`. Only groups
+  // in [first_group, end_group) are inserted (all by default): inserters with their own stamps
+  // may take disjoint group ranges concurrently.
   template <typename Target>
   void insert(const RollingWindow& window, double inverse_resolution, const std::vector<Ray>& rays,
               const std::vector<uint32_t>& order, const std::vector<uint32_t>& group_begin,
-              Target& target);
+              Target& target, size_t first_group = 0, size_t end_group = SIZE_MAX);
 
   size_t updates() const { return updates_; }
 
@@ -90,12 +93,14 @@ template <typename Target>
 void DeduplicatingRayInserter::insert(const RollingWindow& window, double inverse_resolution,
                                       const std::vector<Ray>& rays,
                                       const std::vector<uint32_t>& order,
-                                      const std::vector<uint32_t>& group_begin, Target& target) {
+                                      const std::vector<uint32_t>& group_begin, Target& target,
+                                      size_t first_group, size_t end_group) {
   const int size = window.sizeCells();
   prepare(static_cast<size_t>(size) * size);
   size_t updates = 0;
   uint8_t* const stamps = stamps_.data();
-  for (size_t group = 0; group + 1 < group_begin.size(); ++group) {
+  end_group = std::min(end_group, group_begin.size() - 1);
+  for (size_t group = first_group; group < end_group; ++group) {
     const uint32_t begin = group_begin[group], end = group_begin[group + 1];
     if (begin == end) continue;
     const uint8_t stamp = nextStamp();

@@ -40,8 +40,19 @@ class ReflectanceField {
   void applyHit(const CellIndex& cell, int bin) { applyHitAt(window_.storageIndex(cell), bin); }
   void applyMiss(const CellIndex& cell, int bin) { applyMissAt(window_.storageIndex(cell), bin); }
 
+  // A bin crossing the prior changes its cell's summaries (mask bit, reflective and missed
+  // counts), which all bins of the cell share.
+  struct SummaryChange {
+    int32_t slot;
+    int16_t bin;
+    int8_t reflective;  // +1 became reflective, -1 stopped being, 0 unchanged
+    int8_t missed;      // +1 became missed, -1 stopped being, 0 unchanged
+  };
+
   // Writes one theta slice with everything it needs held locally: int8 stores may alias any
   // member, so going through `this` would reload them after every update.
+  // Writers of different slices may run concurrently when each defers its summary changes to
+  // its own list, applied afterwards by applySummaryChanges (rare next to updates).
   class SliceWriter {
    public:
     void hit(int slot) {
@@ -49,58 +60,55 @@ class ReflectanceField {
       const int old = v;
       const int updated = old + hit_step_ > max_ ? max_ : old + hit_step_;
       v = static_cast<int8_t>(updated);
-      hit_flags_[slot] = 1;
-      if (old <= 0 && updated > 0) {
-        masks_[static_cast<size_t>(slot) * mask_words_] |= bit_;
-        any_reflective_[slot] = 1;
-      }
-      if (old < 0 && updated >= 0) --missed_[slot];
+      // Every writer stores the same 1: relaxed atomic, so concurrent writers are well defined.
+      if (!hit_flags_[slot]) __atomic_store_n(&hit_flags_[slot], uint8_t{1}, __ATOMIC_RELAXED);
+      const int reflective = old <= 0 && updated > 0;
+      const int missed = old < 0 && updated >= 0 ? -1 : 0;
+      if (reflective | missed) change(slot, reflective, missed);
     }
     void miss(int slot) {
       int8_t& v = bins_[slot];
       const int old = v;
       const int updated = old + miss_step_ < min_ ? min_ : old + miss_step_;
       v = static_cast<int8_t>(updated);
-      if (old > 0 && updated <= 0) {
-        masks_[static_cast<size_t>(slot) * mask_words_] &= ~bit_;
-        any_reflective_[slot] = anyBitSet(slot);
-      }
-      if (old >= 0 && updated < 0) ++missed_[slot];
+      const int reflective = old > 0 && updated <= 0 ? -1 : 0;
+      const int missed = old >= 0 && updated < 0;
+      if (reflective | missed) change(slot, reflective, missed);
     }
 
    private:
     friend class ReflectanceField;
-    uint8_t anyBitSet(int slot) const {
-      const uint64_t* cell = masks_ - word_ + static_cast<size_t>(slot) * mask_words_;
-      for (int w = 0; w < mask_words_; ++w) {
-        if (cell[w] != 0) return 1;
+    void change(int slot, int reflective, int missed) {
+      if (deferred_) {
+        deferred_->push_back({slot, static_cast<int16_t>(bin_), static_cast<int8_t>(reflective),
+                              static_cast<int8_t>(missed)});
+      } else {
+        field_->applySummaryChange(slot, bin_, reflective, missed);
       }
-      return 0;
     }
     int8_t* bins_;
-    uint64_t* masks_;  // points at this bin's word of slot 0
-    uint16_t* missed_;
     uint8_t* hit_flags_;
-    uint8_t* any_reflective_;
-    uint64_t bit_;
-    int word_;
-    int mask_words_, hit_step_, miss_step_, min_, max_;
+    ReflectanceField* field_;
+    std::vector<SummaryChange>* deferred_;
+    int bin_, hit_step_, miss_step_, min_, max_;
   };
-  SliceWriter sliceWriter(int bin) {
+  // With `deferred` set, summary changes are appended there instead of applied.
+  SliceWriter sliceWriter(int bin, std::vector<SummaryChange>* deferred = nullptr) {
     SliceWriter w;
     w.bins_ = &bins_[static_cast<size_t>(bin) * plane_];
-    w.masks_ = &reflective_masks_[bin >> 6];
-    w.missed_ = missed_bins_.data();
     w.hit_flags_ = hit_since_tick_.data();
-    w.any_reflective_ = any_reflective_.data();
-    w.word_ = bin >> 6;
-    w.bit_ = uint64_t{1} << (bin & 63);
-    w.mask_words_ = mask_words_;
+    w.field_ = this;
+    w.deferred_ = deferred;
+    w.bin_ = bin;
     w.hit_step_ = log_odds_.hitStep();
     w.miss_step_ = log_odds_.missStep();
     w.min_ = log_odds_.minValue();
     w.max_ = log_odds_.maxValue();
     return w;
+  }
+  void applySummaryChanges(const std::vector<SummaryChange>& changes) {
+    for (const SummaryChange& c : changes)
+      applySummaryChange(c.slot, c.bin, c.reflective, c.missed);
   }
 
   // Single updates by storage index = window().storageIndex(cell).
@@ -109,15 +117,13 @@ class ReflectanceField {
     const int8_t old = v;
     v = log_odds_.hit(old);
     hit_since_tick_[storage_index] = 1;
-    if (old <= 0 && v > 0) setReflective(storage_index, bin, true);
-    if (old < 0 && v >= 0) --missed_bins_[storage_index];
+    applySummaryChange(storage_index, bin, old <= 0 && v > 0, old < 0 && v >= 0 ? -1 : 0);
   }
   void applyMissAt(int storage_index, int bin) {
     int8_t& v = bins_[static_cast<size_t>(bin) * plane_ + storage_index];
     const int8_t old = v;
     v = log_odds_.miss(old);
-    if (old > 0 && v <= 0) setReflective(storage_index, bin, false);
-    if (old >= 0 && v < 0) ++missed_bins_[storage_index];
+    applySummaryChange(storage_index, bin, old > 0 && v <= 0 ? -1 : 0, old >= 0 && v < 0);
   }
 
   // Inverse updates, to take back evidence found to come from beyond glass (online Alg. 3):
@@ -134,9 +140,10 @@ class ReflectanceField {
   const uint64_t* reflectiveMask(const CellIndex& cell) const {
     return &reflective_masks_[static_cast<size_t>(window_.storageIndex(cell)) * mask_words_];
   }
-  // Whether the cell is reflective in any direction (kept with the masks, one byte per cell, so
-  // scans over the region skip empty cells without reading their masks).
-  bool anyReflectiveAt(int storage_index) const { return any_reflective_[storage_index] != 0; }
+  // How many bins of the cell are reflective (kept with the masks, so scans over the region skip
+  // empty cells and count bins without reading the masks).
+  int reflectiveBinsAt(int storage_index) const { return reflective_bins_[storage_index]; }
+  bool anyReflectiveAt(int storage_index) const { return reflective_bins_[storage_index] != 0; }
   const uint64_t* reflectiveMaskAt(int storage_index) const {
     return &reflective_masks_[static_cast<size_t>(storage_index) * mask_words_];
   }
@@ -177,14 +184,15 @@ class ReflectanceField {
   bool read(std::istream& in);
 
  private:
-  void setReflective(int storage_index, int bin, bool reflective) {
-    uint64_t* mask = &reflective_masks_[static_cast<size_t>(storage_index) * mask_words_];
-    const uint64_t bit = uint64_t{1} << (bin & 63);
-    mask[bin >> 6] = reflective ? (mask[bin >> 6] | bit) : (mask[bin >> 6] & ~bit);
-    bool any = false;
-    for (int w = 0; w < mask_words_; ++w)
-      any |= mask[w] != 0;
-    any_reflective_[storage_index] = any;
+  void applySummaryChange(int storage_index, int bin, int reflective, int missed) {
+    if (reflective != 0) {
+      uint64_t& word =
+          reflective_masks_[static_cast<size_t>(storage_index) * mask_words_ + (bin >> 6)];
+      const uint64_t bit = uint64_t{1} << (bin & 63);
+      word = reflective > 0 ? (word | bit) : (word & ~bit);
+      reflective_bins_[storage_index] += reflective;
+    }
+    missed_bins_[storage_index] += missed;
   }
   void revertAt(int storage_index, int bin, int step);
   void archiveTile(const TileIndex& tile);
@@ -206,7 +214,7 @@ class ReflectanceField {
   std::vector<uint64_t> reflective_masks_;  // [y][x][word]
   std::vector<uint16_t> missed_bins_;       // [y][x]
   std::vector<uint8_t> hit_since_tick_;     // [y][x]
-  std::vector<uint8_t> any_reflective_;     // [y][x]
+  std::vector<uint16_t> reflective_bins_;   // [y][x]
   std::vector<uint8_t> confirmed_ticks_;    // [y][x]
   TileArchive archive_;
 };

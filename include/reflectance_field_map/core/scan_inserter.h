@@ -1,9 +1,11 @@
 #pragma once
 
 #include "reflectance_field_map/core/laser_scan.h"
+#include "reflectance_field_map/core/parallel_runner.h"
 #include "reflectance_field_map/core/ray_insertion.h"
 #include "reflectance_field_map/core/reflectance_field.h"
 
+#include <memory>
 #include <vector>
 
 namespace rfm {
@@ -25,6 +27,15 @@ struct BinUpdate {
 
 class ScanInserter {
  public:
+  // With `threads` > 1 the bins of a scan are split between that many threads (the caller and
+  // helpers), by the cells their rays cross; each bin's slice is written by one thread only.
+  explicit ScanInserter(int threads = 1);
+  // The same, on a runner shared with other work of the caller (null: the caller alone).
+  explicit ScanInserter(std::shared_ptr<ParallelRunner> runner);
+  ~ScanInserter();
+  ScanInserter(const ScanInserter&) = delete;
+  ScanInserter& operator=(const ScanInserter&) = delete;
+
   // Returns the number of (cell, bin) updates applied.
   size_t insert(const std::vector<Ray>& rays, ReflectanceField& field);
   // The updates insert() would apply for `rays`, sorted by (slot, bin); the field is unchanged.
@@ -32,13 +43,19 @@ class ScanInserter {
                       std::vector<BinUpdate>& updates);
 
  private:
-  template <typename Target>
-  void run(const std::vector<Ray>& rays, const ReflectanceField& field, Target& target);
+  // make_target(part) gives the target of one thread's part (-1: the caller alone).
+  template <typename MakeTarget>
+  void run(const std::vector<Ray>& rays, const ReflectanceField& field, MakeTarget&& make_target,
+           bool parallel);
 
   std::vector<Ray> clipped_;
   std::vector<uint32_t> order_;
   std::vector<uint32_t> group_begin_;
-  DeduplicatingRayInserter inserter_;
+  std::vector<double> group_work_;  // cumulative cells crossed by the groups before each
+  std::vector<DeduplicatingRayInserter> inserters_;  // one per thread: each has its own stamps
+  std::vector<std::vector<ReflectanceField::SummaryChange>> deferred_;  // per thread
+  std::shared_ptr<ParallelRunner> runner_;
+  size_t updates_ = 0;
 };
 
 }  // namespace rfm

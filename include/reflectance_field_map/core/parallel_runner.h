@@ -1,0 +1,45 @@
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <exception>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace rfm {
+
+// Runs the parts of one job at a time: part 0 on the calling thread, the others on helper
+// threads that live as long as the runner, so handing work over costs a wake-up, not a thread
+// start. The core uses it where the work splits into parts that write disjoint memory (theta
+// slices of the field, per-scan labels).
+class ParallelRunner {
+ public:
+  // `threads` >= 1, the caller included.
+  explicit ParallelRunner(int threads);
+  ~ParallelRunner();
+  ParallelRunner(const ParallelRunner&) = delete;
+  ParallelRunner& operator=(const ParallelRunner&) = delete;
+
+  int threads() const { return static_cast<int>(helpers_.size()) + 1; }
+
+  // Calls part(i) for every i in [0, threads()) and returns when all have finished. The first
+  // exception thrown by any part is rethrown here.
+  void run(const std::function<void(int)>& part);
+
+ private:
+  void helperLoop(int index);
+
+  std::mutex mutex_;  // guards sleeping and waking, and error_
+  std::condition_variable wake_;
+  std::condition_variable done_;
+  const std::function<void(int)>* job_ = nullptr;  // published by generation_
+  std::atomic<unsigned> generation_{0};  // bumped per job, so each helper runs each job once
+  std::atomic<int> pending_{0};          // helpers still running the current job
+  bool stopping_ = false;                // set under mutex_, published by generation_
+  std::exception_ptr error_;
+  std::vector<std::thread> helpers_;
+};
+
+}  // namespace rfm

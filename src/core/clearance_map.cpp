@@ -1,0 +1,53 @@
+#include "reflectance_field_map/core/clearance_map.h"
+
+#include <algorithm>
+
+namespace rfm {
+
+void ClearanceMap::transform() {
+  const int width = box_.width(), height = box_.height();
+  blocks_x_ = (width + kBlock - 1) / kBlock;
+  const int blocks_y = (height + kBlock - 1) / kBlock;
+  constexpr uint8_t kFar = 255;
+  blocks_.assign(static_cast<size_t>(blocks_x_) * blocks_y, kFar);
+  for (int y = 0; y < height; ++y) {
+    const uint8_t* row = &empty_[static_cast<size_t>(y) * width];
+    uint8_t* block_row = &blocks_[static_cast<size_t>(y / kBlock) * blocks_x_];
+    for (int x = 0; x < width; ++x) {
+      if (!row[x]) block_row[x / kBlock] = 0;
+    }
+  }
+  // Two-pass chamfer with unit weights on all eight neighbours: the Chebyshev distance. Blocks
+  // beyond the box count as empty: rays are clipped to the box.
+  const int w = blocks_x_, h = blocks_y;
+  uint8_t* c = blocks_.data();
+  auto relax = [](uint8_t& cell, int neighbour) {
+    if (neighbour + 1 < cell) cell = static_cast<uint8_t>(neighbour + 1);
+  };
+  for (int y = 0; y < h; ++y) {
+    uint8_t* row = c + static_cast<size_t>(y) * w;
+    const uint8_t* above = y > 0 ? row - w : nullptr;
+    for (int x = 0; x < w; ++x) {
+      if (x > 0) relax(row[x], row[x - 1]);
+      if (above) {
+        relax(row[x], above[x]);
+        if (x > 0) relax(row[x], above[x - 1]);
+        if (x + 1 < w) relax(row[x], above[x + 1]);
+      }
+    }
+  }
+  for (int y = h - 1; y >= 0; --y) {
+    uint8_t* row = c + static_cast<size_t>(y) * w;
+    const uint8_t* below = y + 1 < h ? row + w : nullptr;
+    for (int x = w - 1; x >= 0; --x) {
+      if (x + 1 < w) relax(row[x], row[x + 1]);
+      if (below) {
+        relax(row[x], below[x]);
+        if (x > 0) relax(row[x], below[x - 1]);
+        if (x + 1 < w) relax(row[x], below[x + 1]);
+      }
+    }
+  }
+}
+
+}  // namespace rfm

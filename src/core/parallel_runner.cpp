@@ -1,0 +1,99 @@
+#include "reflectance_field_map/core/parallel_runner.h"
+
+#include <chrono>
+
+namespace rfm {
+namespace {
+
+// Waking a sleeping thread costs tens of microseconds on a VM, as much as a scan's share of
+// work: helpers spin this long for the next job before they sleep, and the caller spins for
+// the helpers to finish (their parts are about as long as its own).
+constexpr auto kSpinTime = std::chrono::microseconds(200);
+
+inline void cpuRelax() {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#endif
+}
+
+}  // namespace
+
+ParallelRunner::ParallelRunner(int threads) {
+  for (int i = 1; i < threads; ++i)
+    helpers_.emplace_back([this, i] { helperLoop(i); });
+}
+
+ParallelRunner::~ParallelRunner() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stopping_ = true;
+    generation_.fetch_add(1, std::memory_order_release);
+  }
+  wake_.notify_all();
+  for (std::thread& helper : helpers_)
+    helper.join();
+}
+
+void ParallelRunner::run(const std::function<void(int)>& part) {
+  if (helpers_.empty()) {
+    part(0);
+    return;
+  }
+  job_ = &part;
+  error_ = nullptr;
+  pending_.store(static_cast<int>(helpers_.size()), std::memory_order_relaxed);
+  {
+    // Under the lock, so a helper between its last check and its sleep cannot miss the wake-up.
+    std::lock_guard<std::mutex> lock(mutex_);
+    generation_.fetch_add(1, std::memory_order_release);
+  }
+  wake_.notify_all();
+  std::exception_ptr own_error;
+  try {
+    part(0);
+  } catch (...) {
+    own_error = std::current_exception();
+  }
+  const auto spin_until = std::chrono::steady_clock::now() + kSpinTime;
+  for (unsigned spins = 1; pending_.load(std::memory_order_acquire) != 0; ++spins) {
+    // Reading the clock costs more than a pause: look at it every few hundred spins.
+    if (spins % 256 != 0 || std::chrono::steady_clock::now() < spin_until) {
+      cpuRelax();
+      continue;
+    }
+    std::unique_lock<std::mutex> lock(mutex_);
+    done_.wait(lock, [this] { return pending_.load(std::memory_order_acquire) == 0; });
+  }
+  job_ = nullptr;
+  if (own_error) std::rethrow_exception(own_error);
+  if (error_) std::rethrow_exception(error_);
+}
+
+void ParallelRunner::helperLoop(int index) {
+  unsigned seen = 0;
+  while (true) {
+    const auto spin_until = std::chrono::steady_clock::now() + kSpinTime;
+    for (unsigned spins = 1; generation_.load(std::memory_order_acquire) == seen; ++spins) {
+      if (spins % 256 == 0 && std::chrono::steady_clock::now() >= spin_until) break;
+      cpuRelax();
+    }
+    if (generation_.load(std::memory_order_acquire) == seen) {
+      std::unique_lock<std::mutex> lock(mutex_);
+      wake_.wait(lock, [&] { return generation_.load(std::memory_order_acquire) != seen; });
+    }
+    seen = generation_.load(std::memory_order_acquire);
+    if (stopping_) return;
+    try {
+      (*job_)(index);
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (!error_) error_ = std::current_exception();
+    }
+    if (pending_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
+      std::lock_guard<std::mutex> lock(mutex_);  // pairs with the caller's check before sleeping
+      done_.notify_one();
+    }
+  }
+}
+
+}  // namespace rfm

@@ -1,0 +1,61 @@
+#include "reflectance_field_map/core/clearance_map.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <random>
+
+namespace rfm {
+namespace {
+
+// The promise a leap relies on: at(c) = d means every cell within Chebyshev distance d - 1 of c
+// is empty. Checked against brute force on random maps, and the bound is not uselessly loose.
+TEST(ClearanceMap, EveryCellWithinTheClearanceIsEmpty) {
+  const CellBox box{{-37, 12}, {61, 95}};
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 5; ++trial) {
+    std::vector<CellIndex> occupied;
+    const int count = 1 + trial * 7;
+    std::uniform_int_distribution<int> x(box.min.x(), box.max.x() - 1);
+    std::uniform_int_distribution<int> y(box.min.y(), box.max.y() - 1);
+    for (int i = 0; i < count; ++i)
+      occupied.emplace_back(x(rng), y(rng));
+    auto nearest = [&](const CellIndex& c) {
+      int best = 1 << 20;
+      for (const CellIndex& o : occupied)
+        best = std::min(best, std::max(std::abs(o.x() - c.x()), std::abs(o.y() - c.y())));
+      return best;
+    };
+    ClearanceMap map;
+    map.compute(box, [&](std::vector<uint8_t>& empty) {
+      std::fill(empty.begin(), empty.end(), 1);
+      for (const CellIndex& o : occupied)
+        empty[static_cast<size_t>(o.y() - box.min.y()) * box.width() + (o.x() - box.min.x())] = 0;
+    });
+    for (int cy = box.min.y(); cy < box.max.y(); ++cy) {
+      for (int cx = box.min.x(); cx < box.max.x(); ++cx) {
+        const int truth = nearest({cx, cy});  // the exact clearance
+        const int bound = map.at({cx, cy});
+        ASSERT_LE(bound, truth) << cx << "," << cy;
+        // Blocks cost at most two blocks of slack.
+        ASSERT_GE(bound, std::min(truth, 255) - 2 * ClearanceMap::kBlock) << cx << "," << cy;
+      }
+    }
+  }
+}
+
+TEST(ClearanceMap, NoLeapOutsideTheBoxOrBeforeComputing) {
+  ClearanceMap map;
+  EXPECT_EQ(map.at({0, 0}), 0);
+  const CellBox box{{0, 0}, {40, 40}};
+  map.compute(box, [](std::vector<uint8_t>& empty) { std::fill(empty.begin(), empty.end(), 1); });
+  EXPECT_GT(map.at({20, 20}), 8);
+  EXPECT_EQ(map.at({40, 20}), 0);
+  EXPECT_EQ(map.at({-1, 0}), 0);
+  map.clear();
+  EXPECT_EQ(map.at({20, 20}), 0);
+}
+
+}  // namespace
+}  // namespace rfm
