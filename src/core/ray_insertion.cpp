@@ -11,6 +11,11 @@ bool clipRayToBox(const CellBox& box, double resolution, Ray& ray) {
       box.min.cast<double>() * resolution + Eigen::Vector2d::Constant(margin);
   const Eigen::Vector2d high =
       box.max.cast<double>() * resolution - Eigen::Vector2d::Constant(margin);
+  // Most rays lie inside: nothing to clip.
+  if ((ray.origin.array() >= low.array()).all() && (ray.origin.array() <= high.array()).all() &&
+      (ray.end.array() >= low.array()).all() && (ray.end.array() <= high.array()).all()) {
+    return true;
+  }
   const Eigen::Vector2d delta = ray.end - ray.origin;
   double t_enter = 0.0, t_exit = 1.0;
   for (int axis = 0; axis < 2; ++axis) {

@@ -1,6 +1,7 @@
 #include "reflectance_field_map/core/scan_inserter.h"
 
 #include <algorithm>
+#include <atomic>
 
 namespace rfm {
 
@@ -60,49 +61,39 @@ void ScanInserter::run(const std::vector<Ray>& rays, const ReflectanceField& fie
     updates_ = inserters_[0].updates();
     return;
   }
-  // Contiguous bin ranges with about the same work each: the cells the rays cross.
-  const int parts = runner_->threads();
+  // Threads take chunks of bins from a shared counter until none are left: rays differ in
+  // length and overlap, so a static split would leave one thread waiting for the other.
+  constexpr size_t kChunkBins = 6;
   const size_t groups = group_begin_.size() - 1;
-  group_work_.assign(groups + 1, 0.0);
-  for (size_t g = 0; g < groups; ++g) {
-    double work = 0.0;
-    for (uint32_t k = group_begin_[g]; k < group_begin_[g + 1]; ++k) {
-      const Eigen::Vector2d delta = clipped_[order_[k]].end - clipped_[order_[k]].origin;
-      work += std::abs(delta.x()) + std::abs(delta.y());
-    }
-    group_work_[g + 1] = group_work_[g] + work;
-  }
-  std::vector<size_t> first_group(parts + 1, groups);
-  first_group[0] = 0;
-  for (int p = 1, g = 0; p < parts; ++p) {
-    const double share = group_work_[groups] * p / parts;
-    while (group_work_[g] < share)
-      ++g;
-    first_group[p] = g;
-  }
+  std::atomic<size_t> next_chunk{0};
+  std::vector<size_t> part_updates(runner_->threads(), 0);
   runner_->run([&](int part) {
     auto&& target = make_target(part);
-    inserters_[part].insert(field.window(), inverse_resolution, clipped_, order_, group_begin_,
-                            target, first_group[part], first_group[part + 1]);
+    for (size_t first = kChunkBins * next_chunk.fetch_add(1, std::memory_order_relaxed);
+         first < groups; first = kChunkBins * next_chunk.fetch_add(1, std::memory_order_relaxed)) {
+      inserters_[part].insert(field.window(), inverse_resolution, clipped_, order_, group_begin_,
+                              target, first, first + kChunkBins);
+      part_updates[part] += inserters_[part].updates();
+    }
   });
   updates_ = 0;
-  for (int p = 0; p < parts; ++p)
-    updates_ += inserters_[p].updates();
+  for (size_t updates : part_updates)
+    updates_ += updates;
 }
 
 size_t ScanInserter::insert(const std::vector<Ray>& rays, ReflectanceField& field) {
   deferred_.resize(inserters_.size());
-  for (auto& changes : deferred_)
-    changes.clear();
+  for (DeferredChanges& deferred : deferred_)
+    deferred.changes.clear();
   // Part -1 is the caller alone; parts running side by side defer their summary changes.
   run(
       rays, field,
       [&](int part) {
-        return FieldTarget{field, part < 0 ? nullptr : &deferred_[part]};
+        return FieldTarget{field, part < 0 ? nullptr : &deferred_[part].changes};
       },
       /*parallel=*/true);
-  for (const auto& changes : deferred_)
-    field.applySummaryChanges(changes);
+  for (const DeferredChanges& deferred : deferred_)
+    field.applySummaryChanges(deferred.changes);
   return updates_;
 }
 

@@ -23,7 +23,8 @@ bool clipRayToBox(const CellBox& box, double resolution, Ray& ray);
 // group is updated at most once and a hit wins over a miss (hits are applied first and stamp
 // their slot). Rays of one group share the slots being de-duplicated: for the RFM a group is
 // one theta bin (its own slice), for the plain grid all rays form one group.
-class DeduplicatingRayInserter {
+// Aligned to a cache line: inserters working side by side (one per thread) must not share one.
+class alignas(64) DeduplicatingRayInserter {
  public:
   // For each group g, `target.writer(g)` returns an object with hit(slot) and miss(slot).
   // `rays` are already clipped; `group_begin[g]..group_begin[g+1]` index `order`. Only groups
@@ -69,9 +70,10 @@ inline void walkWindowCells(const Eigen::Vector2d& start, const Eigen::Vector2d&
   const double t_delta_x = dx == 0.0 ? inf : std::abs(1.0 / dx);
   const double t_delta_y = dy == 0.0 ? inf : std::abs(1.0 / dy);
   int x = positiveMod(cx, size), y = positiveMod(cy, size);
+  const SlotIndexer slot_of = window.slotIndexer();
   int cells = remaining_x + remaining_y + (include_end ? 1 : 0);
   while (cells-- > 0) {
-    if (!visit(window.storageSlot(x, y), cx, cy)) return;
+    if (!visit(slot_of(x, y), cx, cy)) return;
     // Parametric choice, overruled when that axis has no steps left (drift guard).
     if (t_max_x < t_max_y ? remaining_x > 0 : remaining_y == 0) {
       t_max_x += t_delta_x;

@@ -6,6 +6,17 @@
 
 namespace rfm {
 
+// storageSlot as a value held in registers: hot loops that store bytes (which may alias any
+// object) would otherwise reload the window's members after every store.
+struct SlotIndexer {
+  int tile_shift, tile_mask, tiles_per_side;
+  int operator()(int storage_x, int storage_y) const {
+    return ((((storage_y >> tile_shift) * tiles_per_side + (storage_x >> tile_shift))
+             << (2 * tile_shift)) |
+            ((storage_y & tile_mask) << tile_shift) | (storage_x & tile_mask));
+  }
+};
+
 // Geometry of a square window of tiles that follows the robot, stored as a circular buffer:
 // a global cell c lives in storage slot positiveMod(c, size) on each axis, so moving the
 // window only re-assigns the slots of tiles that scrolled out to the tiles that scrolled in.
@@ -24,10 +35,9 @@ class RollingWindow {
   // Storage is tile-major: the cells of one tile are contiguous (row-major inside the tile), so
   // a ray touches few cache lines and a tile is archived or cleared as one block.
   int storageSlot(int storage_x, int storage_y) const {
-    return ((((storage_y >> tile_shift_) * tiles_per_side_ + (storage_x >> tile_shift_))
-             << (2 * tile_shift_)) |
-            ((storage_y & tile_mask_) << tile_shift_) | (storage_x & tile_mask_));
+    return slotIndexer()(storage_x, storage_y);
   }
+  SlotIndexer slotIndexer() const { return {tile_shift_, tile_mask_, tiles_per_side_}; }
   // Storage slot of a cell inside the window.
   int storageIndex(const CellIndex& cell) const {
     return storageSlot(storageCoordinate(cell.x()), storageCoordinate(cell.y()));

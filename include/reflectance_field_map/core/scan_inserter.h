@@ -27,8 +27,8 @@ struct BinUpdate {
 
 class ScanInserter {
  public:
-  // With `threads` > 1 the bins of a scan are split between that many threads (the caller and
-  // helpers), by the cells their rays cross; each bin's slice is written by one thread only.
+  // With `threads` > 1 the bins of a scan are shared out between that many threads (the caller
+  // and helpers) in small chunks; each bin's slice is written by one thread only.
   explicit ScanInserter(int threads = 1);
   // The same, on a runner shared with other work of the caller (null: the caller alone).
   explicit ScanInserter(std::shared_ptr<ParallelRunner> runner);
@@ -51,9 +51,12 @@ class ScanInserter {
   std::vector<Ray> clipped_;
   std::vector<uint32_t> order_;
   std::vector<uint32_t> group_begin_;
-  std::vector<double> group_work_;  // cumulative cells crossed by the groups before each
   std::vector<DeduplicatingRayInserter> inserters_;  // one per thread: each has its own stamps
-  std::vector<std::vector<ReflectanceField::SummaryChange>> deferred_;  // per thread
+  // Per thread, each in its own cache line (threads append to them side by side).
+  struct alignas(64) DeferredChanges {
+    std::vector<ReflectanceField::SummaryChange> changes;
+  };
+  std::vector<DeferredChanges> deferred_;
   std::shared_ptr<ParallelRunner> runner_;
   size_t updates_ = 0;
 };
