@@ -76,7 +76,7 @@ ScanUpdate Mapper::addScan(const TimedScan& scan) {
   update.error = scan.scan.validate();
   if (!update.error.empty()) return update;
 
-  const WindowShift shift = field_.recenter(scan.robot_pose.position);
+  const WindowShift shift = field_.recenter(scan.robot_pose.position, impl_->runner.get());
   update.region_moved = shift.moved;
   if (shift.moved) {
     // Entering cells take the classes the global map remembers for them.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <istream>
 #include <ostream>
 
@@ -43,7 +44,8 @@ ReflectanceField::ReflectanceField(const GridOptions& grid, const LogOddsOptions
       reflective_bins_(plane_, 0),
       confirmed_ticks_(plane_, 0) {}
 
-WindowShift ReflectanceField::recenter(const Eigen::Vector2d& robot_position) {
+WindowShift ReflectanceField::recenter(const Eigen::Vector2d& robot_position,
+                                       ParallelRunner* runner) {
   const TileIndex origin = window_.originCentredOn(geometry_.cellOf(robot_position));
   if (!centred_) {
     // First placement: everything enters (a loaded archive may hold some of it).
@@ -52,20 +54,65 @@ WindowShift ReflectanceField::recenter(const Eigen::Vector2d& robot_position) {
     WindowShift shift;
     shift.moved = true;
     shift.entered = window_.tiles();
-    for (const TileIndex& tile : shift.entered)
-      restoreTile(tile);
+    restoreTiles(shift.entered, runner);
     return shift;
   }
   WindowShift shift = diffWindows(window_, origin);
   if (!shift.moved) return shift;
-  for (const TileIndex& tile : shift.left) {
-    archiveTile(tile);
-    clearTileStorage(tile);
-  }
+  archiveTiles(shift.left, runner);
   window_.setOrigin(origin);
-  for (const TileIndex& tile : shift.entered)
-    restoreTile(tile);
+  restoreTiles(shift.entered, runner);
   return shift;
+}
+
+namespace {
+
+// Calls work(i) for i in [0, count), spread over the runner's threads when there is one.
+void forEachIndex(size_t count, ParallelRunner* runner, const std::function<void(size_t)>& work) {
+  if (!runner || runner->threads() == 1 || count < 2) {
+    for (size_t i = 0; i < count; ++i)
+      work(i);
+    return;
+  }
+  runner->run([&](int part) {
+    for (size_t i = part; i < count; i += runner->threads())
+      work(i);
+  });
+}
+
+}  // namespace
+
+void ReflectanceField::archiveTiles(const std::vector<TileIndex>& tiles, ParallelRunner* runner) {
+  // Tiles are gathered, compressed and cleared side by side; the archive itself is one map.
+  std::vector<std::vector<uint8_t>> packed(tiles.size());
+  forEachIndex(tiles.size(), runner, [&](size_t i) {
+    std::vector<int8_t> bins;
+    gatherTile(tiles[i], bins);
+    const bool observed = std::any_of(bins.begin(), bins.end(), [](int8_t v) { return v != 0; });
+    if (observed) packed[i] = compressBins(bins.data(), bins.size());
+    clearTileStorage(tiles[i]);
+  });
+  for (size_t i = 0; i < tiles.size(); ++i) {
+    if (!packed[i].empty()) {
+      archive_.store(tiles[i], std::move(packed[i]));
+    } else {
+      archive_.take(tiles[i]);  // drop a stale copy, if any
+    }
+  }
+}
+
+void ReflectanceField::restoreTiles(const std::vector<TileIndex>& tiles, ParallelRunner* runner) {
+  std::vector<std::vector<uint8_t>> packed(tiles.size());
+  for (size_t i = 0; i < tiles.size(); ++i)
+    packed[i] = archive_.take(tiles[i]);
+  forEachIndex(tiles.size(), runner, [&](size_t i) {
+    if (packed[i].empty()) return;  // never observed: storage is already clear
+    std::vector<int8_t> bins(static_cast<size_t>(window_.tileCells()) * window_.tileCells() *
+                             theta_bins_);
+    if (!decompressBins(packed[i], bins.data(), bins.size())) return;  // corrupt: start afresh
+    scatterTile(tiles[i], bins);
+    rebuildSummaries(tiles[i]);
+  });
 }
 
 int ReflectanceField::reflectiveBins(const CellIndex& cell) const {
@@ -123,17 +170,6 @@ void ReflectanceField::scatterTile(const TileIndex& tile, const std::vector<int8
   }
 }
 
-void ReflectanceField::archiveTile(const TileIndex& tile) {
-  std::vector<int8_t> bins;
-  gatherTile(tile, bins);
-  const bool observed = std::any_of(bins.begin(), bins.end(), [](int8_t v) { return v != 0; });
-  if (observed) {
-    archive_.store(tile, compressBins(bins.data(), bins.size()));
-  } else {
-    archive_.take(tile);  // drop a stale copy, if any
-  }
-}
-
 void ReflectanceField::clearTileStorage(const TileIndex& tile) {
   const size_t cells = static_cast<size_t>(window_.tileCells()) * window_.tileCells();
   const size_t first = window_.tileFirstSlot(tile);
@@ -145,16 +181,6 @@ void ReflectanceField::clearTileStorage(const TileIndex& tile) {
   std::fill_n(&reflective_bins_[first], cells, 0);
   std::fill_n(&confirmed_ticks_[first], cells, 0);
   std::fill_n(&reflective_masks_[first * mask_words_], cells * mask_words_, 0);
-}
-
-void ReflectanceField::restoreTile(const TileIndex& tile) {
-  std::vector<uint8_t> packed = archive_.take(tile);
-  if (packed.empty()) return;  // never observed: storage is already clear
-  std::vector<int8_t> bins(static_cast<size_t>(window_.tileCells()) * window_.tileCells() *
-                           theta_bins_);
-  if (!decompressBins(packed, bins.data(), bins.size())) return;  // corrupt: start afresh
-  scatterTile(tile, bins);
-  rebuildSummaries(tile);
 }
 
 void ReflectanceField::rebuildSummaries(const TileIndex& tile) {

@@ -36,11 +36,13 @@ void reportRays(benchmark::State& state) {
 void BM_RfmInsert(benchmark::State& state) {
   const MapperOptions options;
   ReflectanceField field(options.grid, options.log_odds, options.active_region);
-  ScanInserter inserter(static_cast<int>(state.range(0)));
+  // As in the Mapper: one set of threads for re-centring and insertion.
+  auto runner = std::make_shared<ParallelRunner>(static_cast<int>(state.range(0)));
+  ScanInserter inserter(runner);
   size_t i = 0;
   for (auto _ : state) {
     const auto& s = scans()[i++ % scans().size()];
-    field.recenter(s.scan.robot_pose.position);
+    field.recenter(s.scan.robot_pose.position, runner.get());
     benchmark::DoNotOptimize(inserter.insert(s.rays, field));
   }
   reportRays(state);

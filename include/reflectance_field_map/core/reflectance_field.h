@@ -3,6 +3,7 @@
 #include "reflectance_field_map/core/grid_geometry.h"
 #include "reflectance_field_map/core/log_odds.h"
 #include "reflectance_field_map/core/options.h"
+#include "reflectance_field_map/core/parallel_runner.h"
 #include "reflectance_field_map/core/rolling_window.h"
 #include "reflectance_field_map/core/tile_archive.h"
 
@@ -30,8 +31,9 @@ class ReflectanceField {
   bool inActiveRegion(const CellIndex& cell) const { return window_.contains(cell); }
 
   // Scrolls the window by whole tiles so `robot_position`'s tile is central. Tiles that leave
-  // are archived and cleared; tiles that enter are restored from the archive.
-  WindowShift recenter(const Eigen::Vector2d& robot_position);
+  // are archived and cleared; tiles that enter are restored from the archive (tiles side by
+  // side on the runner's threads, when given).
+  WindowShift recenter(const Eigen::Vector2d& robot_position, ParallelRunner* runner = nullptr);
 
   // Bin access for cells inside the active region.
   int8_t value(const CellIndex& cell, int bin) const {
@@ -195,8 +197,8 @@ class ReflectanceField {
     missed_bins_[storage_index] += missed;
   }
   void revertAt(int storage_index, int bin, int step);
-  void archiveTile(const TileIndex& tile);
-  void restoreTile(const TileIndex& tile);
+  void archiveTiles(const std::vector<TileIndex>& tiles, ParallelRunner* runner);
+  void restoreTiles(const std::vector<TileIndex>& tiles, ParallelRunner* runner);
   void clearTileStorage(const TileIndex& tile);
   void rebuildSummaries(const TileIndex& tile);
   void rebuildCellSummary(int storage_index);
