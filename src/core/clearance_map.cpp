@@ -5,21 +5,10 @@
 namespace rfm {
 
 void ClearanceMap::transform() {
-  const int width = box_.width(), height = box_.height();
-  blocks_x_ = (width + kBlock - 1) / kBlock;
-  const int blocks_y = (height + kBlock - 1) / kBlock;
-  constexpr uint8_t kFar = 255;
-  blocks_.assign(static_cast<size_t>(blocks_x_) * blocks_y, kFar);
-  for (int y = 0; y < height; ++y) {
-    const uint8_t* row = &empty_[static_cast<size_t>(y) * width];
-    uint8_t* block_row = &blocks_[static_cast<size_t>(y / kBlock) * blocks_x_];
-    for (int x = 0; x < width; ++x) {
-      if (!row[x]) block_row[x / kBlock] = 0;
-    }
-  }
+  const int h = static_cast<int>(blocks_.size()) / std::max(blocks_x_, 1);
   // Two-pass chamfer with unit weights on all eight neighbours: the Chebyshev distance. Blocks
   // beyond the box count as empty: rays are clipped to the box.
-  const int w = blocks_x_, h = blocks_y;
+  const int w = blocks_x_;
   uint8_t* c = blocks_.data();
   auto relax = [](uint8_t& cell, int neighbour) {
     if (neighbour + 1 < cell) cell = static_cast<uint8_t>(neighbour + 1);

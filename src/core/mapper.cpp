@@ -174,24 +174,42 @@ MotionRemovalSummary Mapper::removeMotion() {
     impl_->stats.free_cells = free_cells;
   }
 
-  // New glass: cells now blocking that were not before.
-  size_t i = 0, blocking = 0;
-  CellBox new_glass;
-  field_.window().forEachCell(box, [&](int x, int y, int slot) {
-    CellClass& stored = impl_->classes[slot];
-    const CellClass now = box_classes[i++];
-    if (blocksRays(now)) {
-      ++blocking;
-      if (!blocksRays(stored) && now != CellClass::kStatic) {
-        new_glass = new_glass.unite({{x, y}, {x + 1, y + 1}});
+  // New glass: cells now blocking that were not before. Bands of rows on the threads.
+  ParallelRunner& runner = *impl_->runner;
+  struct alignas(64) BandResult {
+    size_t blocking = 0;
+    CellBox new_glass;
+  };
+  std::vector<BandResult> bands(runner.threads());
+  runner.run([&](int part) {
+    const int first_row = box.height() * part / runner.threads();
+    const int end_row = box.height() * (part + 1) / runner.threads();
+    const CellBox rows{{box.min.x(), box.min.y() + first_row},
+                       {box.max.x(), box.min.y() + end_row}};
+    size_t i = static_cast<size_t>(first_row) * box.width();
+    BandResult band;
+    field_.window().forEachCell(rows, [&](int x, int y, int slot) {
+      CellClass& stored = impl_->classes[slot];
+      const CellClass now = box_classes[i++];
+      if (blocksRays(now)) {
+        ++band.blocking;
+        if (!blocksRays(stored) && now != CellClass::kStatic) {
+          band.new_glass = band.new_glass.unite({{x, y}, {x + 1, y + 1}});
+        }
       }
-    }
-    stored = now;
+      stored = now;
+    });
+    bands[part] = band;
   });
-  impl_->blocking_cells = blocking;
-  impl_->clearance.compute(box, [&](std::vector<uint8_t>& empty) {
-    for (size_t k = 0; k < box_classes.size(); ++k)
-      empty[k] = box_classes[k] == CellClass::kFree || box_classes[k] == CellClass::kUnknown;
+  CellBox new_glass;
+  impl_->blocking_cells = 0;
+  for (const BandResult& band : bands) {
+    impl_->blocking_cells += band.blocking;
+    new_glass = new_glass.unite(band.new_glass);
+  }
+  impl_->clearance.compute(box, [&](int dx, int dy) {
+    const CellClass c = box_classes[static_cast<size_t>(dy) * box.width() + dx];
+    return c == CellClass::kFree || c == CellClass::kUnknown;
   });
   map_.assign(box, [&](const CellIndex& cell) {
     return box_classes[static_cast<size_t>(cell.y() - box.min.y()) * box.width() +
@@ -261,12 +279,9 @@ void Mapper::revertEvidenceBehindGlass(const CellBox& new_glass) {
 
 void Mapper::updateClearance() {
   const CellBox box = field_.activeBox();
-  impl_->clearance.compute(box, [&](std::vector<uint8_t>& empty) {
-    size_t i = 0;
-    field_.window().forEachCell(box, [&](int, int, int slot) {
-      const CellClass c = impl_->classes[slot];
-      empty[i++] = c == CellClass::kFree || c == CellClass::kUnknown;
-    });
+  impl_->clearance.compute(box, [&](int dx, int dy) {
+    const CellClass c = impl_->classes[field_.window().storageIndex(box.min + CellIndex(dx, dy))];
+    return c == CellClass::kFree || c == CellClass::kUnknown;
   });
 }
 

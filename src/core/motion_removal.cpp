@@ -1,6 +1,7 @@
 #include "reflectance_field_map/core/motion_removal.h"
 
 #include <algorithm>
+#include <atomic>
 
 namespace rfm {
 
@@ -189,21 +190,27 @@ MotionRemovalCounts MotionRemover::classify(
     ParallelRunner* runner) {
   const int bins = field.geometry().thetaBins();
   const size_t cells = static_cast<size_t>(box.width()) * box.height();
-  // Bands of rows, one per thread.
-  const int parts = runner ? std::min(runner->threads(), std::max(box.height(), 1)) : 1;
+  // Bands of rows, a few per thread, handed out as threads become free: reflective cells
+  // cluster, so equal bands are not equal work.
+  const int threads = runner ? runner->threads() : 1;
+  const int parts = std::max(1, std::min(threads == 1 ? 1 : 4 * threads, box.height()));
   std::vector<Band> bands(parts);
   for (int p = 0; p < parts; ++p)
     bands[p] = {box.height() * p / parts, box.height() * (p + 1) / parts};
   auto forEachBand = [&](const std::function<void(int)>& body) {
-    if (parts == 1) {
-      body(0);
-    } else {
-      runner->run([&](int part) {
-        if (part < parts) body(part);
-      });
+    if (threads == 1) {
+      for (int p = 0; p < parts; ++p)
+        body(p);
+      return;
     }
+    std::atomic<int> next{0};
+    runner->run([&](int) {
+      for (int p = next.fetch_add(1, std::memory_order_relaxed); p < parts;
+           p = next.fetch_add(1, std::memory_order_relaxed)) {
+        body(p);
+      }
+    });
   };
-
   // Runs per band, then one run list with global indices.
   slots_.resize(cells);
   cell_first_run_.assign(cells + 1, 0);

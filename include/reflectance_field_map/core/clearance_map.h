@@ -16,12 +16,19 @@ class ClearanceMap {
  public:
   static constexpr int kBlock = 4;
 
-  // fill(empty) sets empty[i] = 1 for each empty cell, row-major over `box` (x fastest).
-  template <typename FillEmpty>
-  void compute(const CellBox& box, FillEmpty&& fill) {
+  // is_empty(dx, dy): whether cell box.min + (dx, dy) is empty.
+  template <typename IsEmpty>
+  void compute(const CellBox& box, IsEmpty&& is_empty) {
     box_ = box;
-    empty_.assign(static_cast<size_t>(box.width()) * box.height(), 0);
-    fill(empty_);
+    blocks_x_ = (box.width() + kBlock - 1) / kBlock;
+    const int blocks_y = (box.height() + kBlock - 1) / kBlock;
+    blocks_.assign(static_cast<size_t>(blocks_x_) * blocks_y, kFar);
+    for (int dy = 0; dy < box.height(); ++dy) {
+      uint8_t* block_row = &blocks_[static_cast<size_t>(dy / kBlock) * blocks_x_];
+      for (int dx = 0; dx < box.width(); ++dx) {
+        if (!is_empty(dx, dy)) block_row[dx / kBlock] = 0;
+      }
+    }
     transform();
   }
 
@@ -36,16 +43,16 @@ class ClearanceMap {
   const CellBox& box() const { return box_; }
   void clear() {
     box_ = CellBox();
-    empty_.clear();
     blocks_.clear();
   }
 
  private:
+  static constexpr uint8_t kFar = 255;
+  // Block distances from the seeds (0 on blocks holding a non-empty cell, kFar elsewhere).
   void transform();
 
   CellBox box_;
   int blocks_x_ = 0;
-  std::vector<uint8_t> empty_;   // per cell
   std::vector<uint8_t> blocks_;  // per block: Chebyshev distance in blocks to a non-empty one
 };
 
