@@ -33,8 +33,11 @@ struct BufferedScan {
 struct Mapper::Impl {
   Impl(const MapperOptions& options, const ReflectanceField& field)
       : rule(options.occupancy, field.geometry().binWidth()),
-        remover(rule, static_cast<int>(std::ceil(options.motion_removal.persistence_time *
-                                                 options.motion_removal.motion_removal_rate))),
+        remover(rule,
+                static_cast<int>(std::ceil(options.motion_removal.persistence_time *
+                                           options.motion_removal.motion_removal_rate)),
+                static_cast<int>(std::ceil(options.motion_removal.persistence_min_length /
+                                           options.grid.resolution))),
         runner(std::make_shared<ParallelRunner>(options.insertion.insertion_threads)),
         inserter(runner),
         classes(static_cast<size_t>(field.window().sizeCells()) * field.window().sizeCells(),

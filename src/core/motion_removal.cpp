@@ -62,6 +62,11 @@ void MotionRemover::unite(uint32_t a, uint32_t b) {
   if (rank_[a] < rank_[b]) std::swap(a, b);
   parent_[b] = a;
   anchored_[a] |= anchored_[b];
+  persistent_[a] |= persistent_[b];
+  Extent& e = extent_[a];
+  const Extent& f = extent_[b];
+  e = {std::min(e.min_x, f.min_x), std::min(e.min_y, f.min_y), std::max(e.max_x, f.max_x),
+       std::max(e.max_y, f.max_y)};
   if (rank_[a] == rank_[b]) ++rank_[a];
 }
 
@@ -114,8 +119,13 @@ void MotionRemover::joinBand(const ReflectanceField& field, const CellBox& box, 
       const int slot = slots_[local];
       const bool anchor = widelyVisible(field, slot, reflective);
       widely_visible_[local] = anchor;
-      bool seeded =
-          anchor || (persistence_ticks_ > 0 && field.confirmedTicksAt(slot) >= persistence_ticks_);
+      const bool persistent =
+          persistence_ticks_ > 0 && field.confirmedTicksAt(slot) >= persistence_ticks_;
+      if (persistent && persistence_min_cells_ > 0) {
+        for (uint32_t r = first; r < last; ++r)
+          persistent_[find(r)] = 1;  // anchors only if the component proves long enough
+      }
+      bool seeded = anchor || (persistent && persistence_min_cells_ == 0);
       // Known obstacles just outside the box seed components crossing its border.
       if (!seeded &&
           (x == box.min.x() || y == box.min.y() || x == box.max.x() - 1 || y == box.max.y() - 1)) {
@@ -154,6 +164,11 @@ void MotionRemover::joinRows(const CellBox& box, int row, int bins) {
   }
 }
 
+bool MotionRemover::longEnough(uint32_t root) const {
+  const Extent& e = extent_[root];
+  return std::max(e.max_x - e.min_x, e.max_y - e.min_y) + 1 >= persistence_min_cells_;
+}
+
 void MotionRemover::classifyBand(const ReflectanceField& field, const CellBox& box,
                                  const Band& band, std::vector<CellClass>& classes,
                                  MotionRemovalCounts& counts) const {
@@ -165,7 +180,7 @@ void MotionRemover::classifyBand(const ReflectanceField& field, const CellBox& b
     for (uint32_t r = first; r < last; ++r) {
       reflective += runs_[r].length;
       widest = std::max<int>(widest, runs_[r].length);
-      anchored |= anchored_[root_[r]] != 0;
+      anchored |= anchored_[root_[r]] != 0 || (persistent_[root_[r]] && longEnough(root_[r]));
     }
     CellClass& c = classes[local];
     if (!rule_.isOccupied(reflective)) {
@@ -234,6 +249,19 @@ MotionRemovalCounts MotionRemover::classify(
     parent_[i] = i;
   rank_.assign(runs_.size(), 0);
   anchored_.assign(runs_.size(), 0);
+  persistent_.assign(runs_.size(), 0);
+  extent_.resize(runs_.size());
+  forEachBand([&](int p) {
+    for (int row = bands[p].first_row; row < bands[p].end_row; ++row) {
+      for (int col = 0; col < box.width(); ++col) {
+        const size_t local = static_cast<size_t>(row) * box.width() + col;
+        for (uint32_t r = cell_first_run_[local]; r < cell_first_run_[local + 1]; ++r) {
+          extent_[r] = {static_cast<int16_t>(col), static_cast<int16_t>(row),
+                        static_cast<int16_t>(col), static_cast<int16_t>(row)};
+        }
+      }
+    }
+  });
   widely_visible_.assign(cells, 0);
   // Each band unites only its own runs, so bands do not touch each other's trees.
   forEachBand([&](int p) { joinBand(field, box, bands[p], outside); });

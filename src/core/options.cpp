@@ -63,6 +63,7 @@ void OccupancyOptions::validate() const {
 void MotionRemovalOptions::validate() const {
   requireRange("motion_removal_rate", motion_removal_rate, 0.01, 100.0);
   requireRange("persistence_time", persistence_time, 0.0, 1e6);
+  requireRange("persistence_min_length", persistence_min_length, 0.0, 100.0);
 }
 
 void ReflectionRemovalOptions::validate() const {
@@ -161,6 +162,11 @@ const std::vector<FieldAccess>& accessTable() {
       {{"persistence_time", "reflective this long without a break anchors like V (s, 0 off)",
         T::kDouble},
        [](MapperOptions& o) -> double& { return o.motion_removal.persistence_time; },
+       {},
+       {}},
+      {{"persistence_min_length", "persistent cells anchor components at least this long (m)",
+        T::kDouble},
+       [](MapperOptions& o) -> double& { return o.motion_removal.persistence_min_length; },
        {},
        {}},
       {{"reflection_removal_enabled", "run Alg. 3", T::kBool},

@@ -88,6 +88,37 @@ TEST(MotionRemover, LongStrokesDoNotOverflowAnything) {
   EXPECT_EQ(f.classify({0, 0}), CellClass::kMotion);
 }
 
+// Long-confirmed evidence anchors structure only when the component is long enough: a wall
+// seen from one place does, a person standing still (a small blob) does not.
+TEST(MotionRemover, PersistentCellsAnchorOnlyLongComponents) {
+  DirectField f;
+  for (int tick = 0; tick < 4; ++tick) {
+    for (int y = -10; y < 10; ++y)
+      f.hit({8, y}, 0, 1);  // a 1 m wall segment, seen head-on
+    for (int x = -12; x < -8; ++x)
+      f.hit({x, 5}, 90, 1);  // a 0.2 m blob
+    f.field.tickPersistence();
+  }
+  const OccupancyRule rule(OccupancyOptions(), f.field.geometry().binWidth());
+  const CellBox box = f.field.activeBox();
+  auto class_at = [&](const std::vector<CellClass>& classes, const CellIndex& c) {
+    return classes[static_cast<size_t>(c.y() - box.min.y()) * box.width() + c.x() - box.min.x()];
+  };
+  auto outside = [](const CellIndex&) { return CellClass::kUnknown; };
+  std::vector<CellClass> classes;
+  MotionRemover any_size(rule, /*persistence_ticks=*/3, /*persistence_min_cells=*/0);
+  any_size.classify(f.field, box, outside, classes);
+  EXPECT_EQ(class_at(classes, {8, 0}), CellClass::kGlass);
+  EXPECT_EQ(class_at(classes, {-10, 5}), CellClass::kGlass);
+  MotionRemover long_only(rule, 3, /*persistence_min_cells=*/12);
+  long_only.classify(f.field, box, outside, classes);
+  EXPECT_EQ(class_at(classes, {8, 0}), CellClass::kGlass);
+  EXPECT_EQ(class_at(classes, {-10, 5}), CellClass::kMotion);
+  MotionRemover not_yet(rule, /*persistence_ticks=*/5, 12);  // not confirmed long enough
+  not_yet.classify(f.field, box, outside, classes);
+  EXPECT_EQ(class_at(classes, {8, 0}), CellClass::kMotion);
+}
+
 TEST(MotionRemover, KnownObstaclesOutsideTheBoxSeedComponents) {
   DirectField f;
   const CellBox box = f.field.activeBox();

@@ -30,8 +30,13 @@ class MotionRemover {
  public:
   // `persistence_ticks` > 0: cells confirmed for that many persistence ticks anchor their
   // component too (ReflectanceField::confirmedTicks).
-  explicit MotionRemover(const OccupancyRule& rule, int persistence_ticks = 0)
-      : rule_(rule), persistence_ticks_(persistence_ticks) {}
+  // With `persistence_min_cells` > 0 such cells anchor only components at least that long
+  // (bounding box side, in cells): a person standing still is smaller than structure.
+  explicit MotionRemover(const OccupancyRule& rule, int persistence_ticks = 0,
+                         int persistence_min_cells = 0)
+      : rule_(rule),
+        persistence_ticks_(persistence_ticks),
+        persistence_min_cells_(persistence_min_cells) {}
 
   // Classifies every cell of `box` (inside the field's active window) into `classes`
   // (row-major, x fastest). `outside` gives the known class of cells just outside the box and
@@ -59,19 +64,26 @@ class MotionRemover {
   void uniteNeighbour(size_t local, size_t n_local, int bins);
   void classifyBand(const ReflectanceField& field, const CellBox& box, const Band& band,
                     std::vector<CellClass>& classes, MotionRemovalCounts& counts) const;
+  bool longEnough(uint32_t root) const;
   uint32_t find(uint32_t node);
   void unite(uint32_t a, uint32_t b);
   bool widelyVisible(const ReflectanceField& field, int slot, int reflective_bins) const;
 
   OccupancyRule rule_;
   int persistence_ticks_;
+  int persistence_min_cells_;
   std::vector<Run> runs_;
   std::vector<std::vector<Run>> band_runs_;  // per band, before joining into runs_
   std::vector<uint32_t> cell_first_run_;     // CSR over box cells, size cells + 1
   std::vector<int> slots_;                   // storage slot of each box cell
   std::vector<uint32_t> parent_;
   std::vector<uint8_t> rank_;
-  std::vector<uint8_t> anchored_;        // per root: touches a widely visible or known static cell
+  std::vector<uint8_t> anchored_;    // per root: touches a widely visible or known static cell
+  std::vector<uint8_t> persistent_;  // per root: holds a long-confirmed cell
+  struct Extent {
+    int16_t min_x, min_y, max_x, max_y;  // box-local cells
+  };
+  std::vector<Extent> extent_;           // per root: bounding box of its cells
   std::vector<uint32_t> root_;           // final root of each run
   std::vector<uint8_t> widely_visible_;  // per box cell
 };

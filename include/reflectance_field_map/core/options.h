@@ -71,6 +71,9 @@ struct MotionRemovalOptions {
   // standing this long counts as structure until the misses after they leave clear the cells.
   // Measured in ticks of the motion-removal rate, on the scans' clock.
   double persistence_time = 12.0;  // s, 0 disables
+  // Such cells anchor only components at least this long (m, longer bounding-box side): a
+  // person standing still is smaller than a wall. 0: any size.
+  double persistence_min_length = 0.6;
   void validate() const;
 };
 
