@@ -45,8 +45,9 @@ struct Mapper::Impl {
 
   OccupancyRule rule;
   MotionRemover remover;
-  // Threads shared by insertion (split by theta bin), the reflection check (split by ray) and
-  // batch labelling (split by scan).
+  // The mapper's threads (insertion_threads), for one job at a time: insertion (by theta bin),
+  // re-centring (by tile), the reflection check (by ray), motion removal (by band of rows) and
+  // batch labelling (by scan).
   std::shared_ptr<ParallelRunner> runner;
   ScanInserter inserter;
   // Classes of the active window from the last motion removal, by storage index.
@@ -109,11 +110,13 @@ ScanUpdate Mapper::addScan(const TimedScan& scan) {
     runner.run([&](int part) {
       const size_t begin = rays.size() * part / runner.threads();
       const size_t end = rays.size() * (part + 1) / runner.threads();
+      size_t count = 0;
       for (size_t i = begin; i < end; ++i) {
         if (!truncateAtGlass(rays[i])) continue;
         update.labels[rays[i].beam] = RayLabel::kReflection;
-        ++truncated[part];
+        ++count;
       }
+      truncated[part] = count;
     });
     for (size_t count : truncated)
       impl_->stats.reflection_rays += count;

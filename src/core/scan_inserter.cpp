@@ -69,12 +69,14 @@ void ScanInserter::run(const std::vector<Ray>& rays, const ReflectanceField& fie
   std::vector<size_t> part_updates(runner_->threads(), 0);
   runner_->run([&](int part) {
     auto&& target = make_target(part);
+    size_t updates = 0;
     for (size_t first = kChunkBins * next_chunk.fetch_add(1, std::memory_order_relaxed);
          first < groups; first = kChunkBins * next_chunk.fetch_add(1, std::memory_order_relaxed)) {
       inserters_[part].insert(field.window(), inverse_resolution, clipped_, order_, group_begin_,
                               target, first, first + kChunkBins);
-      part_updates[part] += inserters_[part].updates();
+      updates += inserters_[part].updates();
     }
+    part_updates[part] = updates;
   });
   updates_ = 0;
   for (size_t updates : part_updates)

@@ -23,9 +23,10 @@ struct MotionRemovalCounts {
 // Motion removal (Alg. 2). Nodes are runs of contiguous reflective bins of one cell (theta
 // wraps around); two runs of 8-neighbouring cells are connected when their bins are within one
 // bin of each other, which is 26-connectivity in (x, y, theta). Components are found with an
-// iterative union-find. A component touching a widely visible cell (eq. 7), a long-lived cell,
-// or a known obstacle just outside the box, is a static structure: its cells are static (widely
-// visible) or glass/metal; any other component is motion.
+// iterative union-find. A component touching a widely visible cell (eq. 7), a known obstacle
+// just outside the box, or a long-lived cell when the component is long enough, is a static
+// structure: its cells are static (widely visible) or glass/metal; any other component is
+// motion.
 class MotionRemover {
  public:
   // `persistence_ticks` > 0: cells confirmed for that many persistence ticks anchor their

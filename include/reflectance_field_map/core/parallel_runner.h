@@ -25,7 +25,8 @@ class ParallelRunner {
   int threads() const { return static_cast<int>(helpers_.size()) + 1; }
 
   // Calls part(i) for every i in [0, threads()) and returns when all have finished. The first
-  // exception thrown by any part is rethrown here.
+  // exception thrown by any part is rethrown here. One job at a time: not reentrant (a part
+  // must not call run), and not for several callers at once.
   void run(const std::function<void(int)>& part);
 
  private:

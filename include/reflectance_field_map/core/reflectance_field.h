@@ -63,7 +63,9 @@ class ReflectanceField {
       const int updated = old + hit_step_ > max_ ? max_ : old + hit_step_;
       v = static_cast<int8_t>(updated);
       // Every writer stores the same 1: relaxed atomic, so concurrent writers are well defined.
-      if (!hit_flags_[slot]) __atomic_store_n(&hit_flags_[slot], uint8_t{1}, __ATOMIC_RELAXED);
+      if (!__atomic_load_n(&hit_flags_[slot], __ATOMIC_RELAXED)) {
+        __atomic_store_n(&hit_flags_[slot], uint8_t{1}, __ATOMIC_RELAXED);
+      }
       const int reflective = old <= 0 && updated > 0;
       const int missed = old < 0 && updated >= 0 ? -1 : 0;
       if (reflective | missed) change(slot, reflective, missed);
