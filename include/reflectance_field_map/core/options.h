@@ -72,8 +72,9 @@ struct MotionRemovalOptions {
   // Measured in ticks of the motion-removal rate, on the scans' clock.
   double persistence_time = 12.0;  // s, 0 disables
   // Such cells anchor only components at least this long (m, longer bounding-box side): a
-  // person standing still is smaller than a wall. 0: any size.
-  double persistence_min_length = 0.6;
+  // person standing still is smaller than most walls. 0 (default): any size, because the end of
+  // a corridor seen from afar is as short as a person (the real stationary recording).
+  double persistence_min_length = 0.0;
   void validate() const;
 };
 
