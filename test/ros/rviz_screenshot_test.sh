@@ -7,7 +7,6 @@
 set -u
 OUT=${1:-/tmp/rfm_rviz_screenshot.png}
 WORK=$(mktemp -d /tmp/rfm_rviz_XXXXXX)
-PORT=$((20000 + RANDOM % 20000))
 PKG=$(rospack find reflectance_field_map) || { echo "source devel/setup.bash first"; exit 2; }
 for tool in xvfb-run rviz import convert rosrun roslaunch; do
   command -v $tool >/dev/null || { echo "missing $tool"; exit 2; }
@@ -17,17 +16,21 @@ rosrun reflectance_field_map rfm_sim --scene "$PKG/config/scenes/atrium.yaml" \
   --out "$WORK/atrium.bag" > "$WORK/sim.log" 2>&1 || { cat "$WORK/sim.log"; exit 1; }
 
 cat > "$WORK/inside_x.sh" <<INNER
-export ROS_MASTER_URI=http://127.0.0.1:$PORT
-roslaunch -p $PORT reflectance_field_map replay.launch bag:=$WORK/atrium.bag rviz:=true \
-  > $WORK/launch.log 2>&1 &
-L=\$!
 result=1
-deadline=\$((SECONDS + 240))
-while [ \$SECONDS -lt \$deadline ]; do
-  sleep 2  # polling interval
-  import -window root $OUT 2>/dev/null || continue
-  # Inside the 3D view (between the docks): blue: glass markers (0.1, 0.35, 1.0); grey: free map cells drawn by the Map display.
-  counts=\$(convert $OUT -crop 560x520+360+90 +repage -depth 8 rgb:- | /usr/bin/python3 -c '
+# A port the OS reports free; should another process take it before the master binds it,
+# roslaunch fails at once and the next attempt uses another port.
+for attempt in 1 2 3; do
+  port=\$(/usr/bin/python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
+  export ROS_MASTER_URI=http://127.0.0.1:\$port
+  roslaunch -p \$port reflectance_field_map replay.launch bag:=$WORK/atrium.bag rviz:=true \
+    > $WORK/launch.log 2>&1 &
+  L=\$!
+  deadline=\$((SECONDS + 240))
+  while [ \$SECONDS -lt \$deadline ] && kill -0 \$L 2>/dev/null; do
+    sleep 2  # polling interval
+    import -window root $OUT 2>/dev/null || continue
+    # Inside the 3D view (between the docks): blue: glass markers (0.1, 0.35, 1.0); grey: free map cells drawn by the Map display.
+    counts=\$(convert $OUT -crop 560x520+360+90 +repage -depth 8 rgb:- | /usr/bin/python3 -c '
 import sys
 d = sys.stdin.buffer.read()
 blue = grey = 0
@@ -38,11 +41,15 @@ for i in range(0, len(d) - 2, 3):
     elif r > 180 and abs(r - g) < 6 and abs(g - b) < 6:
         grey += 1
 print(blue, grey)')
-  echo "\$counts" > $WORK/pixels.txt
-  read -r blue grey <<< "\$counts"
-  if [ "\$blue" -gt 50 ] && [ "\$grey" -gt 5000 ]; then result=0; break; fi
+    echo "\$counts" > $WORK/pixels.txt
+    read -r blue grey <<< "\$counts"
+    if [ "\$blue" -gt 50 ] && [ "\$grey" -gt 5000 ]; then result=0; break; fi
+  done
+  kill -INT \$L 2>/dev/null; wait \$L
+  [ \$result -eq 0 ] && break
+  grep -q "Address already in use" $WORK/launch.log || break  # another failure: report it
+  echo "attempt \$attempt: port \$port was taken, retrying" >> $WORK/retries.log
 done
-kill -INT \$L; wait \$L
 exit \$result
 INNER
 xvfb-run -a -s "-screen 0 1280x800x24" bash "$WORK/inside_x.sh"
