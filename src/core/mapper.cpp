@@ -7,6 +7,7 @@
 #include "reflectance_field_map/core/ray_insertion.h"
 #include "reflectance_field_map/core/scan_inserter.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <deque>
@@ -105,21 +106,11 @@ ScanUpdate Mapper::addScan(const TimedScan& scan) {
   auto reflection_start = std::chrono::steady_clock::now();
   if (options_.reflection_removal.reflection_removal_enabled && impl_->blocking_cells > 0) {
     // Read-only on the field and the classes: the rays split between threads freely.
-    ParallelRunner& runner = *impl_->runner;
-    std::vector<size_t> truncated(runner.threads(), 0);
-    runner.run([&](int part) {
-      const size_t begin = rays.size() * part / runner.threads();
-      const size_t end = rays.size() * (part + 1) / runner.threads();
-      size_t count = 0;
-      for (size_t i = begin; i < end; ++i) {
-        if (!truncateAtGlass(rays[i])) continue;
-        update.labels[rays[i].beam] = RayLabel::kReflection;
-        ++count;
-      }
-      truncated[part] = count;
+    parallelFor(impl_->runner.get(), rays.size(), 64, [&](size_t i, int) {
+      if (truncateAtGlass(rays[i])) update.labels[rays[i].beam] = RayLabel::kReflection;
     });
-    for (size_t count : truncated)
-      impl_->stats.reflection_rays += count;
+    impl_->stats.reflection_rays +=
+        std::count(update.labels.begin(), update.labels.end(), RayLabel::kReflection);
   }
   update.reflection_ms = millisecondsSince(reflection_start);
 
@@ -180,38 +171,34 @@ MotionRemovalSummary Mapper::removeMotion() {
     impl_->stats.free_cells = free_cells;
   }
 
-  // New glass: cells now blocking that were not before. Bands of rows on the threads.
-  ParallelRunner& runner = *impl_->runner;
-  struct alignas(64) BandResult {
+  // New glass: cells now blocking that were not before. Rows on the threads.
+  struct alignas(64) RowResult {
     size_t blocking = 0;
     CellBox new_glass;
   };
-  std::vector<BandResult> bands(runner.threads());
-  runner.run([&](int part) {
-    const int first_row = box.height() * part / runner.threads();
-    const int end_row = box.height() * (part + 1) / runner.threads();
-    const CellBox rows{{box.min.x(), box.min.y() + first_row},
-                       {box.max.x(), box.min.y() + end_row}};
-    size_t i = static_cast<size_t>(first_row) * box.width();
-    BandResult band;
-    field_.window().forEachCell(rows, [&](int x, int y, int slot) {
-      CellClass& stored = impl_->classes[slot];
-      const CellClass now = box_classes[i++];
-      if (blocksRays(now)) {
-        ++band.blocking;
-        if (!blocksRays(stored) && now != CellClass::kStatic) {
-          band.new_glass = band.new_glass.unite({{x, y}, {x + 1, y + 1}});
-        }
-      }
-      stored = now;
-    });
-    bands[part] = band;
+  std::vector<RowResult> rows(box.height());
+  parallelFor(impl_->runner.get(), rows.size(), 16, [&](size_t row, int) {
+    const int y = box.min.y() + static_cast<int>(row);
+    size_t i = row * box.width();
+    RowResult& result = rows[row];
+    field_.window().forEachCell(
+        {{box.min.x(), y}, {box.max.x(), y + 1}}, [&](int x, int, int slot) {
+          CellClass& stored = impl_->classes[slot];
+          const CellClass now = box_classes[i++];
+          if (blocksRays(now)) {
+            ++result.blocking;
+            if (!blocksRays(stored) && now != CellClass::kStatic) {
+              result.new_glass = result.new_glass.unite({{x, y}, {x + 1, y + 1}});
+            }
+          }
+          stored = now;
+        });
   });
   CellBox new_glass;
   impl_->blocking_cells = 0;
-  for (const BandResult& band : bands) {
-    impl_->blocking_cells += band.blocking;
-    new_glass = new_glass.unite(band.new_glass);
+  for (const RowResult& result : rows) {
+    impl_->blocking_cells += result.blocking;
+    new_glass = new_glass.unite(result.new_glass);
   }
   impl_->clearance.compute(box, [&](int dx, int dy) {
     const CellClass c = box_classes[static_cast<size_t>(dy) * box.width() + dx];
@@ -332,11 +319,8 @@ std::vector<RayLabel> Mapper::labelScan(const TimedScan& scan, bool final_map) c
 std::vector<std::vector<RayLabel>> Mapper::labelScans(ScanIterator first, ScanIterator last,
                                                       bool final_map) const {
   std::vector<std::vector<RayLabel>> labels(last - first);
-  ParallelRunner& runner = *impl_->runner;
-  runner.run([&](int part) {
-    for (size_t i = part; i < labels.size(); i += runner.threads())
-      labels[i] = labelScan(first[i], final_map);
-  });
+  parallelFor(impl_->runner.get(), labels.size(), 1,
+              [&](size_t i, int) { labels[i] = labelScan(first[i], final_map); });
   return labels;
 }
 
@@ -372,6 +356,7 @@ double Mapper::passThroughDistance(const Ray& ray) const {
   const double resolution = geometry.resolution();
   const int bins = geometry.thetaBins();
   const ClearanceMap& clearance = impl_->clearance;
+  auto class_of = [this](const CellIndex& cell) { return cellClass(cell); };
   // Free and unknown cells change nothing until the ray is inside a blocking cell, so the walk
   // leaps over empty space by the clearance and steps cell by cell only near structure.
   double from = 0.0;  // m along the ray where the next walk starts
@@ -396,7 +381,6 @@ double Mapper::passThroughDistance(const Ray& ray) const {
                    field_.isReflectiveAt(slot, (bin + 1) % bins) ||
                    field_.isReflectiveAt(slot, (bin + bins - 1) % bins);
           };
-          auto class_of = [this](const CellIndex& cell) { return cellClass(cell); };
           if (c == CellClass::kFree || c == CellClass::kUnknown) {
             if (detector.blocked()) return detector.visit({x, y}, c, reflective_near, class_of);
             // Well clear of structure again: leap from here (the cell centre's projection lies

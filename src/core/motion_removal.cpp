@@ -1,7 +1,6 @@
 #include "reflectance_field_map/core/motion_removal.h"
 
 #include <algorithm>
-#include <atomic>
 
 namespace rfm {
 
@@ -62,11 +61,13 @@ void MotionRemover::unite(uint32_t a, uint32_t b) {
   if (rank_[a] < rank_[b]) std::swap(a, b);
   parent_[b] = a;
   anchored_[a] |= anchored_[b];
-  persistent_[a] |= persistent_[b];
-  Extent& e = extent_[a];
-  const Extent& f = extent_[b];
-  e = {std::min(e.min_x, f.min_x), std::min(e.min_y, f.min_y), std::max(e.max_x, f.max_x),
-       std::max(e.max_y, f.max_y)};
+  if (persistence_min_cells_ > 0) {
+    persistent_[a] |= persistent_[b];
+    Extent& e = extent_[a];
+    const Extent& f = extent_[b];
+    e = {std::min(e.min_x, f.min_x), std::min(e.min_y, f.min_y), std::max(e.max_x, f.max_x),
+         std::max(e.max_y, f.max_y)};
+  }
   if (rank_[a] == rank_[b]) ++rank_[a];
 }
 
@@ -213,18 +214,7 @@ MotionRemovalCounts MotionRemover::classify(
   for (int p = 0; p < parts; ++p)
     bands[p] = {box.height() * p / parts, box.height() * (p + 1) / parts};
   auto forEachBand = [&](const std::function<void(int)>& body) {
-    if (threads == 1) {
-      for (int p = 0; p < parts; ++p)
-        body(p);
-      return;
-    }
-    std::atomic<int> next{0};
-    runner->run([&](int) {
-      for (int p = next.fetch_add(1, std::memory_order_relaxed); p < parts;
-           p = next.fetch_add(1, std::memory_order_relaxed)) {
-        body(p);
-      }
-    });
+    parallelFor(runner, parts, 1, [&](size_t p, int) { body(static_cast<int>(p)); });
   };
   // Runs per band, then one run list with global indices.
   slots_.resize(cells);
@@ -250,18 +240,21 @@ MotionRemovalCounts MotionRemover::classify(
   rank_.assign(runs_.size(), 0);
   anchored_.assign(runs_.size(), 0);
   persistent_.assign(runs_.size(), 0);
-  extent_.resize(runs_.size());
-  forEachBand([&](int p) {
-    for (int row = bands[p].first_row; row < bands[p].end_row; ++row) {
-      for (int col = 0; col < box.width(); ++col) {
-        const size_t local = static_cast<size_t>(row) * box.width() + col;
-        for (uint32_t r = cell_first_run_[local]; r < cell_first_run_[local + 1]; ++r) {
-          extent_[r] = {static_cast<int16_t>(col), static_cast<int16_t>(row),
-                        static_cast<int16_t>(col), static_cast<int16_t>(row)};
+  // Component lengths matter only to the persistence rule with a minimum length.
+  extent_.resize(persistence_min_cells_ > 0 ? runs_.size() : 0);
+  if (persistence_min_cells_ > 0) {
+    forEachBand([&](int p) {
+      for (int row = bands[p].first_row; row < bands[p].end_row; ++row) {
+        for (int col = 0; col < box.width(); ++col) {
+          const size_t local = static_cast<size_t>(row) * box.width() + col;
+          for (uint32_t r = cell_first_run_[local]; r < cell_first_run_[local + 1]; ++r) {
+            extent_[r] = {static_cast<int16_t>(col), static_cast<int16_t>(row),
+                          static_cast<int16_t>(col), static_cast<int16_t>(row)};
+          }
         }
       }
-    }
-  });
+    });
+  }
   widely_visible_.assign(cells, 0);
   // Each band unites only its own runs, so bands do not touch each other's trees.
   forEachBand([&](int p) { joinBand(field, box, bands[p], outside); });

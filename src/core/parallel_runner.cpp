@@ -1,5 +1,6 @@
 #include "reflectance_field_map/core/parallel_runner.h"
 
+#include <algorithm>
 #include <chrono>
 
 namespace rfm {
@@ -94,6 +95,24 @@ void ParallelRunner::helperLoop(int index) {
       done_.notify_one();
     }
   }
+}
+
+void parallelFor(ParallelRunner* runner, size_t count, size_t grain,
+                 const std::function<void(size_t, int)>& body) {
+  grain = std::max<size_t>(grain, 1);
+  if (!runner || runner->threads() == 1 || count <= grain) {
+    for (size_t i = 0; i < count; ++i)
+      body(i, 0);
+    return;
+  }
+  std::atomic<size_t> next{0};
+  runner->run([&](int thread) {
+    for (size_t first = next.fetch_add(grain, std::memory_order_relaxed); first < count;
+         first = next.fetch_add(grain, std::memory_order_relaxed)) {
+      for (size_t i = first; i < std::min(count, first + grain); ++i)
+        body(i, thread);
+    }
+  });
 }
 
 }  // namespace rfm

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <istream>
 #include <ostream>
 
@@ -65,27 +64,10 @@ WindowShift ReflectanceField::recenter(const Eigen::Vector2d& robot_position,
   return shift;
 }
 
-namespace {
-
-// Calls work(i) for i in [0, count), spread over the runner's threads when there is one.
-void forEachIndex(size_t count, ParallelRunner* runner, const std::function<void(size_t)>& work) {
-  if (!runner || runner->threads() == 1 || count < 2) {
-    for (size_t i = 0; i < count; ++i)
-      work(i);
-    return;
-  }
-  runner->run([&](int part) {
-    for (size_t i = part; i < count; i += runner->threads())
-      work(i);
-  });
-}
-
-}  // namespace
-
 void ReflectanceField::archiveTiles(const std::vector<TileIndex>& tiles, ParallelRunner* runner) {
   // Tiles are gathered, compressed and cleared side by side; the archive itself is one map.
   std::vector<std::vector<uint8_t>> packed(tiles.size());
-  forEachIndex(tiles.size(), runner, [&](size_t i) {
+  parallelFor(runner, tiles.size(), 1, [&](size_t i, int) {
     std::vector<int8_t> bins;
     gatherTile(tiles[i], bins);
     const bool observed = std::any_of(bins.begin(), bins.end(), [](int8_t v) { return v != 0; });
@@ -105,7 +87,7 @@ void ReflectanceField::restoreTiles(const std::vector<TileIndex>& tiles, Paralle
   std::vector<std::vector<uint8_t>> packed(tiles.size());
   for (size_t i = 0; i < tiles.size(); ++i)
     packed[i] = archive_.take(tiles[i]);
-  forEachIndex(tiles.size(), runner, [&](size_t i) {
+  parallelFor(runner, tiles.size(), 1, [&](size_t i, int) {
     if (packed[i].empty()) return;  // never observed: storage is already clear
     std::vector<int8_t> bins(static_cast<size_t>(window_.tileCells()) * window_.tileCells() *
                              theta_bins_);

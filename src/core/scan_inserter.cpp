@@ -1,7 +1,6 @@
 #include "reflectance_field_map/core/scan_inserter.h"
 
 #include <algorithm>
-#include <atomic>
 
 namespace rfm {
 
@@ -61,25 +60,21 @@ void ScanInserter::run(const std::vector<Ray>& rays, const ReflectanceField& fie
     updates_ = inserters_[0].updates();
     return;
   }
-  // Threads take chunks of bins from a shared counter until none are left: rays differ in
-  // length and overlap, so a static split would leave one thread waiting for the other.
+  // Threads take chunks of bins as they become free: rays differ in length and overlap, so a
+  // static split would leave one thread waiting for the other. Each thread has its own stamps.
   constexpr size_t kChunkBins = 6;
   const size_t groups = group_begin_.size() - 1;
-  std::atomic<size_t> next_chunk{0};
-  std::vector<size_t> part_updates(runner_->threads(), 0);
-  runner_->run([&](int part) {
-    auto&& target = make_target(part);
-    size_t updates = 0;
-    for (size_t first = kChunkBins * next_chunk.fetch_add(1, std::memory_order_relaxed);
-         first < groups; first = kChunkBins * next_chunk.fetch_add(1, std::memory_order_relaxed)) {
-      inserters_[part].insert(field.window(), inverse_resolution, clipped_, order_, group_begin_,
-                              target, first, first + kChunkBins);
-      updates += inserters_[part].updates();
-    }
-    part_updates[part] = updates;
-  });
+  std::vector<size_t> thread_updates(runner_->threads(), 0);
+  parallelFor(runner_.get(), (groups + kChunkBins - 1) / kChunkBins, 1,
+              [&](size_t chunk, int thread) {
+                auto&& target = make_target(thread);
+                inserters_[thread].insert(field.window(), inverse_resolution, clipped_, order_,
+                                          group_begin_, target, chunk * kChunkBins,
+                                          (chunk + 1) * kChunkBins);
+                thread_updates[thread] += inserters_[thread].updates();
+              });
   updates_ = 0;
-  for (size_t updates : part_updates)
+  for (size_t updates : thread_updates)
     updates_ += updates;
 }
 

@@ -2,6 +2,8 @@
 
 #include "scenario.h"
 
+#include "test_fields.h"
+
 #include <gtest/gtest.h>
 
 namespace rfm {
@@ -25,12 +27,7 @@ TEST(BinIntervals, OverlapWrapsAroundTheCircle) {
 
 // Builds field evidence directly: a set of (cell, bin) hits.
 struct DirectField {
-  DirectField() : field(GridOptions(), LogOddsOptions(), region()) { field.recenter({0, 0}); }
-  static ActiveRegionOptions region() {
-    ActiveRegionOptions r;
-    r.active_region_radius = 2.0;
-    return r;
-  }
+  DirectField() : field(testing::centredField(2.0)) {}
   void hit(const CellIndex& cell, int bin, int times = 10) {
     for (int i = 0; i < times; ++i)
       field.applyHit(cell, bin);

@@ -1,5 +1,7 @@
 #include "reflectance_field_map/core/occupancy.h"
 
+#include "test_fields.h"
+
 #include <gtest/gtest.h>
 
 namespace rfm {
@@ -23,10 +25,7 @@ TEST(OccupancyRule, AlphaCountsReflectiveAngle) {
 }
 
 ReflectanceField fieldWithHits(int bins_hit, int hits_per_bin, int bins_missed) {
-  ActiveRegionOptions region;
-  region.active_region_radius = 2.0;
-  ReflectanceField field(GridOptions(), LogOddsOptions(), region);
-  field.recenter({0, 0});
+  ReflectanceField field = testing::centredField(2.0);
   for (int b = 0; b < bins_hit; ++b) {
     for (int k = 0; k < hits_per_bin; ++k)
       field.applyHit({0, 0}, b);

@@ -65,5 +65,27 @@ TEST(ParallelRunner, OneThreadRunsOnTheCaller) {
   EXPECT_EQ(id, std::this_thread::get_id());
 }
 
+// Every index exactly once, whatever the grain, on valid threads; a null runner is the caller.
+TEST(ParallelFor, VisitsEveryIndexOnceOnValidThreads) {
+  ParallelRunner runner(2);
+  for (size_t grain : {1u, 3u, 64u, 1000u}) {
+    std::vector<std::atomic<int>> visits(257);
+    std::atomic<int> bad_thread{0};
+    parallelFor(&runner, visits.size(), grain, [&](size_t i, int thread) {
+      visits[i].fetch_add(1);
+      if (thread < 0 || thread >= runner.threads()) bad_thread.fetch_add(1);
+    });
+    for (size_t i = 0; i < visits.size(); ++i)
+      EXPECT_EQ(visits[i].load(), 1) << "grain " << grain << " index " << i;
+    EXPECT_EQ(bad_thread.load(), 0);
+  }
+  std::vector<std::thread::id> ids;
+  parallelFor(nullptr, 3, 1, [&](size_t, int thread) {
+    EXPECT_EQ(thread, 0);
+    ids.push_back(std::this_thread::get_id());
+  });
+  EXPECT_EQ(ids, std::vector<std::thread::id>(3, std::this_thread::get_id()));
+}
+
 }  // namespace
 }  // namespace rfm

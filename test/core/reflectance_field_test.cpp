@@ -1,5 +1,7 @@
 #include "reflectance_field_map/core/reflectance_field.h"
 
+#include "test_fields.h"
+
 #include <gtest/gtest.h>
 
 #include <random>
@@ -10,11 +12,7 @@ namespace {
 ReflectanceField smallField(int theta_bins = 180) {
   GridOptions grid;
   grid.theta_bins = theta_bins;
-  ActiveRegionOptions region;
-  region.active_region_radius = 2.0;
-  ReflectanceField field(grid, LogOddsOptions(), region);
-  field.recenter({0.0, 0.0});
-  return field;
+  return testing::centredField(2.0, grid);
 }
 
 TEST(LogOddsModel, QuantisedUpdatesClampAtTheLimits) {

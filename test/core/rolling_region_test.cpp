@@ -1,6 +1,8 @@
 #include "reflectance_field_map/core/reflectance_field.h"
 #include "reflectance_field_map/core/rolling_window.h"
 
+#include "test_fields.h"
+
 #include <gtest/gtest.h>
 
 #include <map>
@@ -14,9 +16,7 @@ constexpr double kResolution = 0.05;
 ReflectanceField makeField(double radius = 2.0) {
   GridOptions grid;
   grid.theta_bins = 36;
-  ActiveRegionOptions region;
-  region.active_region_radius = radius;
-  return ReflectanceField(grid, LogOddsOptions(), region);
+  return ReflectanceField(grid, LogOddsOptions(), testing::regionOfRadius(radius));
 }
 
 // Writes a value that encodes the cell and bin, so misplaced data is detected.
@@ -126,30 +126,26 @@ TEST(ReflectanceField, LeaveAndReturnRestoresEvidenceBitForBit) {
       field.applyMiss(cell, bin(rng));
     }
   }
+  // Every bin of the box, and each cell's reflective and missed counts.
+  auto snapshot = [&](std::vector<int8_t>& bins, std::vector<int>& counts) {
+    for (int cy = box.min.y(); cy < box.max.y(); ++cy) {
+      for (int cx = box.min.x(); cx < box.max.x(); ++cx) {
+        counts.push_back(field.reflectiveBins({cx, cy}) * 1000 + field.missedBins({cx, cy}));
+        for (int b = 0; b < 36; ++b)
+          bins.push_back(field.value({cx, cy}, b));
+      }
+    }
+  };
   std::vector<int8_t> before;
   std::vector<int> reflective_before;
-  for (int cy = box.min.y(); cy < box.max.y(); ++cy) {
-    for (int cx = box.min.x(); cx < box.max.x(); ++cx) {
-      reflective_before.push_back(field.reflectiveBins({cx, cy}) * 1000 +
-                                  field.missedBins({cx, cy}));
-      for (int b = 0; b < 36; ++b)
-        before.push_back(field.value({cx, cy}, b));
-    }
-  }
+  snapshot(before, reflective_before);
   field.recenter({40.0, -25.0});  // everything leaves
   EXPECT_GT(field.archivedTiles(), 0u);
   EXPECT_GT(field.archivedBytes(), 0u);
   field.recenter({0.0, 0.0});  // and comes back
   std::vector<int8_t> after;
   std::vector<int> reflective_after;
-  for (int cy = box.min.y(); cy < box.max.y(); ++cy) {
-    for (int cx = box.min.x(); cx < box.max.x(); ++cx) {
-      reflective_after.push_back(field.reflectiveBins({cx, cy}) * 1000 +
-                                 field.missedBins({cx, cy}));
-      for (int b = 0; b < 36; ++b)
-        after.push_back(field.value({cx, cy}, b));
-    }
-  }
+  snapshot(after, reflective_after);
   EXPECT_EQ(after, before);
   EXPECT_EQ(reflective_after, reflective_before);
   EXPECT_EQ(field.archivedTiles(), 0u);  // restored tiles leave the archive

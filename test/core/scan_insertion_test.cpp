@@ -3,6 +3,8 @@
 
 #include "synthetic_world.h"
 
+#include "test_fields.h"
+
 #include <gtest/gtest.h>
 
 namespace rfm {
@@ -11,12 +13,7 @@ namespace {
 using testing::SyntheticWorld;
 
 struct Fixture {
-  Fixture() : field(GridOptions(), LogOddsOptions(), region()) { field.recenter({0, 0}); }
-  static ActiveRegionOptions region() {
-    ActiveRegionOptions r;
-    r.active_region_radius = 6.0;
-    return r;
-  }
+  Fixture() : field(testing::centredField(6.0)) {}
   ReflectanceField field;
   ScanInserter inserter;
 };
@@ -100,13 +97,9 @@ TEST(ScanInserter, TwoThreadsGiveTheFieldOfOne) {
   world.addFramedPane({3.0, -4.0}, {3.0, 4.0});
   world.addWall({6.0, -8.0}, {6.0, 8.0});
   world.addWall({-5.0, -8.0}, {-5.0, 8.0});
-  ActiveRegionOptions region;
-  region.active_region_radius = 12.0;
-  ReflectanceField single(GridOptions(), LogOddsOptions(), region);
-  ReflectanceField parallel(GridOptions(), LogOddsOptions(), region);
+  ReflectanceField single = testing::centredField(12.0);
+  ReflectanceField parallel = testing::centredField(12.0);
   ScanInserter one(1), two(2);
-  single.recenter({0, 0});
-  parallel.recenter({0, 0});
   std::vector<Ray> rays;
   size_t updates_one = 0, updates_two = 0;
   for (const Pose2D& pose : testing::straightPath({0.0, -6.0}, {0.0, 6.0}, 60, 0.3)) {
@@ -142,12 +135,9 @@ TEST(GlassPane, StaysOccupiedInTheRfmButIsErasedInThePlainGrid) {
   SyntheticWorld world;
   world.addFramedPane({3.0, -4.0}, {3.0, 4.0});
   world.addWall({6.0, -8.0}, {6.0, 8.0});
-  ActiveRegionOptions region;
-  region.active_region_radius = 12.0;
-  ReflectanceField field(GridOptions(), LogOddsOptions(), region);
-  PlainOccupancyGrid grid(GridOptions(), LogOddsOptions(), region);
+  ReflectanceField field = testing::centredField(12.0);
+  PlainOccupancyGrid grid(GridOptions(), LogOddsOptions(), testing::regionOfRadius(12.0));
   ScanInserter inserter;
-  field.recenter({0, 0});
   grid.recenter({0, 0});
   // The robot drives parallel to the pane: it faces it near-normally only briefly.
   std::vector<Ray> rays;

@@ -43,4 +43,11 @@ class ParallelRunner {
   std::vector<std::thread> helpers_;
 };
 
+// Calls body(i, thread) for every i in [0, count) on the runner's threads (thread in
+// [0, threads())), handing out `grain` indices at a time as threads become free, so unequal
+// items balance out. A null runner, or too little work to share, runs on the caller alone
+// (thread 0).
+void parallelFor(ParallelRunner* runner, size_t count, size_t grain,
+                 const std::function<void(size_t, int)>& body);
+
 }  // namespace rfm
