@@ -2,6 +2,7 @@
 // change the experiment. Every error names the offending field.
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -251,6 +252,36 @@ class Parser {
     return result;
   }
 
+  // People are solid: a path through a pillar or a desk would fuse the person with structure in
+  // a way no real scene can, so such a scene is an error, not a harder test.
+  void rejectPathsThroughWalls(const std::vector<PersonSpec>& people, const World& world) const {
+    constexpr int kDirections = 16;
+    constexpr double kStep = 0.05;  // m along the path
+    for (std::size_t i = 0; i < people.size(); ++i) {
+      const PersonSpec& person = people[i];
+      const std::size_t n = person.waypoints.size();
+      const std::size_t legs = person.loop && n > 1 ? n : n - 1;
+      for (std::size_t k = 0; k < std::max<std::size_t>(legs, 1); ++k) {
+        const Eigen::Vector2d from = person.waypoints[k].position;
+        const Eigen::Vector2d to = person.waypoints[(k + 1) % n].position;
+        const int samples = static_cast<int>(std::ceil((to - from).norm() / kStep));
+        for (int j = 0; j <= samples; ++j) {
+          const Eigen::Vector2d centre = from + (to - from) * (samples ? double(j) / samples : 0.0);
+          for (int d = 0; d < kDirections; ++d) {
+            const double angle = 2.0 * M_PI * d / kDirections;
+            const Eigen::Vector2d direction(std::cos(angle), std::sin(angle));
+            if (!world.intersect(centre, direction, person.radius, {}, -1, 0.0)) continue;
+            std::ostringstream message;
+            message << "the walk from (" << from.x() << ", " << from.y() << ") to (" << to.x()
+                    << ", " << to.y() << ") runs into a wall at (" << centre.x() << ", "
+                    << centre.y() << "): people cannot pass through walls";
+            fail(index(join(index("people", i), "waypoints"), k), message.str());
+          }
+        }
+      }
+    }
+  }
+
   TrajectorySpec robot(const YAML::Node& node) const {
     const std::string field = "robot";
     if (!node) fail(field, "missing (required)");
@@ -318,6 +349,7 @@ class Parser {
     scene.materials = materials(root["materials"]);
     walls(root["walls"], scene.world);
     scene.people = people(root["people"], scene.duration);
+    rejectPathsThroughWalls(scene.people, scene.world);
     scene.robot = robot(root["robot"]);
     scene.lidars = defaultWheelchairLidars();
     sensors(root["sensors"], scene.lidars);

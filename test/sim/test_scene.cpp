@@ -132,6 +132,13 @@ TEST(SceneParseTest, ErrorsNameTheBadField) {
   EXPECT_EQ(errorField("rate_hz: 20", "rate_hz: x"), "sensors.rate_hz");
   EXPECT_EQ(errorField("points: [[0, 0], [4, 0]]", "points: [[0, 0]]"), "walls[0].points");
   EXPECT_EQ(errorField("name: tiny\n", ""), "name");
+  // People are solid: no walking through a pane or a pillar, nor brushing through it.
+  EXPECT_EQ(errorField("[[0, 1], [2, 1, 3.0]]", "[[0, 1], [2, -1, 3.0]]"),
+            "people[0].waypoints[0]");
+  EXPECT_EQ(errorField("[[0, 1], [2, 1, 3.0]]", "[[0, 1], [2, 1, 3.0], [0, 4.0]]"),
+            "people[0].waypoints[1]");
+  EXPECT_EQ(errorField("[[0, 1], [2, 1, 3.0]]", "[[0, 0.2], [2, 1, 3.0]]"),
+            "people[0].waypoints[0]");
 }
 
 TEST(SceneParseTest, SyntaxErrorsAndMissingFilesAreReported) {
