@@ -12,6 +12,7 @@
 #include <cmath>
 #include <deque>
 #include <istream>
+#include <limits>
 #include <ostream>
 
 namespace rfm {
@@ -22,6 +23,11 @@ constexpr uint32_t kMapperMagic = 0x52464d53;  // "RFMS"
 double millisecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
       .count();
+}
+
+// How many whole `unit`s cover `value` (rounded up; exact multiples are not rounded past).
+int unitsIn(double value, double unit) {
+  return static_cast<int>(std::ceil(value / unit - 1e-9));
 }
 
 }  // namespace
@@ -35,14 +41,18 @@ struct Mapper::Impl {
   Impl(const MapperOptions& options, const ReflectanceField& field)
       : rule(options.occupancy, field.geometry().binWidth()),
         remover(rule,
-                static_cast<int>(std::ceil(options.motion_removal.persistence_time *
-                                           options.motion_removal.motion_removal_rate)),
-                static_cast<int>(std::ceil(options.motion_removal.persistence_min_length /
-                                           options.grid.resolution))),
+                unitsIn(options.motion_removal.persistence_time,
+                        1.0 / options.motion_removal.motion_removal_rate),
+                unitsIn(options.motion_removal.persistence_min_length, options.grid.resolution),
+                unitsIn(options.motion_removal.departure_min_angle, field.geometry().binWidth())),
         runner(std::make_shared<ParallelRunner>(options.insertion.insertion_threads)),
         inserter(runner),
         classes(static_cast<size_t>(field.window().sizeCells()) * field.window().sizeCells(),
-                CellClass::kUnknown) {}
+                CellClass::kUnknown),
+        remembered_min_bins(
+            options.motion_removal.departure_min_angle > 0.0
+                ? rule.minWidelyVisibleBins(field.logOdds(), field.geometry().thetaBins())
+                : std::numeric_limits<int>::max()) {}
 
   OccupancyRule rule;
   MotionRemover remover;
@@ -60,6 +70,8 @@ struct Mapper::Impl {
   std::vector<Ray> rays;
   std::vector<CellClass> box_classes;
   MapperStats stats;
+  // Cells with fewer reflective bins cannot be widely visible: no history (departures) for them.
+  int remembered_min_bins;
 };
 
 Mapper::Mapper(const MapperOptions& options)
@@ -138,7 +150,7 @@ void Mapper::tickPersistenceIfDue(double stamp) {
   if (impl_->stats.scans_processed == 0 || stamp < impl_->last_tick_stamp) {
     impl_->last_tick_stamp = stamp;  // first scan, or time went back
   } else if (stamp - impl_->last_tick_stamp >= period) {
-    field_.tickPersistence();
+    field_.tickPersistence(impl_->remembered_min_bins);
     impl_->last_tick_stamp = stamp;
   }
 }

@@ -118,10 +118,12 @@ void MotionRemover::joinBand(const ReflectanceField& field, const CellBox& box, 
       for (uint32_t r = first; r < last; ++r)
         reflective += runs_[r].length;
       const int slot = slots_[local];
-      const bool anchor = widelyVisible(field, slot, reflective);
+      const bool departed =
+          departure_min_bins_ > 0 && field.contradictedBinsAt(slot) >= departure_min_bins_;
+      const bool anchor = !departed && widelyVisible(field, slot, reflective);
       widely_visible_[local] = anchor;
       const bool persistent =
-          persistence_ticks_ > 0 && field.confirmedTicksAt(slot) >= persistence_ticks_;
+          !departed && persistence_ticks_ > 0 && field.confirmedTicksAt(slot) >= persistence_ticks_;
       if (persistent && persistence_min_cells_ > 0) {
         for (uint32_t r = first; r < last; ++r)
           persistent_[find(r)] = 1;  // anchors only if the component proves long enough

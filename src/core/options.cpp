@@ -64,6 +64,7 @@ void MotionRemovalOptions::validate() const {
   requireRange("motion_removal_rate", motion_removal_rate, 0.01, 100.0);
   requireRange("persistence_time", persistence_time, 0.0, 1e6);
   requireRange("persistence_min_length", persistence_min_length, 0.0, 100.0);
+  requireRange("departure_min_angle", departure_min_angle, 0.0, kTwoPi);
 }
 
 void ReflectionRemovalOptions::validate() const {
@@ -167,6 +168,12 @@ const std::vector<FieldAccess>& accessTable() {
       {{"persistence_min_length", "persistent cells anchor components at least this long (m)",
         T::kDouble},
        [](MapperOptions& o) -> double& { return o.motion_removal.persistence_min_length; },
+       {},
+       {}},
+      {{"departure_min_angle",
+        "seen through over this much of its former reflective angle: anchors no more (rad, 0 off)",
+        T::kDouble},
+       [](MapperOptions& o) -> double& { return o.motion_removal.departure_min_angle; },
        {},
        {}},
       {{"reflection_removal_enabled", "run Alg. 3", T::kBool},

@@ -74,7 +74,14 @@ void ReflectanceField::archiveTiles(const std::vector<TileIndex>& tiles, Paralle
     if (observed) packed[i] = compressBins(bins.data(), bins.size());
     clearTileStorage(tiles[i]);
   });
+  const int tile_slots = window_.tileCells() * window_.tileCells();
   for (size_t i = 0; i < tiles.size(); ++i) {
+    // The history is a summary of the active region only: it is not archived.
+    if (!reflective_history_.empty()) {
+      const int first = static_cast<int>(window_.tileFirstSlot(tiles[i]));
+      for (int slot = first; slot < first + tile_slots; ++slot)
+        reflective_history_.erase(slot);
+    }
     if (!packed[i].empty()) {
       archive_.store(tiles[i], std::move(packed[i]));
     } else {
@@ -123,7 +130,23 @@ size_t ReflectanceField::activeBytes() const {
          reflective_bins_.size() * sizeof(uint16_t) + confirmed_ticks_.size();
 }
 
+int ReflectanceField::contradictedBinsAt(int storage_index) const {
+  if (missed_bins_[storage_index] == 0) return 0;  // nothing seen through it
+  const auto it = reflective_history_.find(storage_index);
+  if (it == reflective_history_.end()) return 0;
+  const int confidently_missed = log_odds_.minValue() / 2;
+  int count = 0;
+  for (int w = 0; w < mask_words_; ++w) {
+    for (uint64_t word = it->second[w]; word != 0; word &= word - 1) {
+      const int bin = 64 * w + __builtin_ctzll(word);
+      count += bins_[static_cast<size_t>(bin) * plane_ + storage_index] <= confidently_missed;
+    }
+  }
+  return count;
+}
+
 void ReflectanceField::clear() {
+  reflective_history_.clear();
   std::fill(bins_.begin(), bins_.end(), 0);
   std::fill(reflective_masks_.begin(), reflective_masks_.end(), 0);
   std::fill(missed_bins_.begin(), missed_bins_.end(), 0);
@@ -186,8 +209,15 @@ void ReflectanceField::rebuildCellSummary(int storage_index) {
   reflective_bins_[storage_index] = reflective;
 }
 
-void ReflectanceField::tickPersistence() {
+void ReflectanceField::tickPersistence(int remembered_min_bins) {
   for (size_t index = 0; index < plane_; ++index) {
+    if (reflective_bins_[index] >= remembered_min_bins) {
+      std::vector<uint64_t>& history = reflective_history_[static_cast<int>(index)];
+      history.resize(mask_words_, 0);
+      const uint64_t* mask = &reflective_masks_[index * mask_words_];
+      for (int w = 0; w < mask_words_; ++w)
+        history[w] |= mask[w];
+    }
     uint8_t& ticks = confirmed_ticks_[index];
     if (!reflective_bins_[index]) {
       ticks = 0;

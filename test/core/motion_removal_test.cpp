@@ -116,6 +116,35 @@ TEST(MotionRemover, PersistentCellsAnchorOnlyLongComponents) {
   EXPECT_EQ(class_at(classes, {8, 0}), CellClass::kMotion);
 }
 
+// A person seen from all around while standing still is widely visible; once rays pass where it
+// reflected, it anchors nothing and its component is motion.
+TEST(MotionRemover, DepartedCellsAnchorNothing) {
+  DirectField f;
+  const CellIndex spot(-5, 3);
+  for (int bin = 0; bin < 180; ++bin)
+    f.hit(spot, bin);
+  f.field.tickPersistence(/*remembered_min_bins=*/1);
+  for (int i = 0; i < 20; ++i) {
+    for (int bin = 10; bin < 13; ++bin)
+      f.field.applyMiss(spot, bin);
+  }
+  const OccupancyRule rule(OccupancyOptions(), f.field.geometry().binWidth());
+  const CellBox box = f.field.activeBox();
+  const size_t local =
+      static_cast<size_t>(spot.y() - box.min.y()) * box.width() + (spot.x() - box.min.x());
+  auto outside = [](const CellIndex&) { return CellClass::kUnknown; };
+  std::vector<CellClass> classes;
+  MotionRemover without(rule, 0, 0, /*departure_min_bins=*/0);
+  without.classify(f.field, box, outside, classes);
+  EXPECT_EQ(classes[local], CellClass::kStatic);
+  MotionRemover with(rule, 0, 0, /*departure_min_bins=*/3);
+  with.classify(f.field, box, outside, classes);
+  EXPECT_EQ(classes[local], CellClass::kMotion);
+  MotionRemover stricter(rule, 0, 0, /*departure_min_bins=*/4);
+  stricter.classify(f.field, box, outside, classes);
+  EXPECT_EQ(classes[local], CellClass::kStatic);
+}
+
 TEST(MotionRemover, KnownObstaclesOutsideTheBoxSeedComponents) {
   DirectField f;
   const CellBox box = f.field.activeBox();

@@ -30,6 +30,7 @@ TEST(MapperOptions, EveryBadValueIsRejectedNamingTheField) {
       {"motion_removal_rate", {0.0, -2.0, 1000.0}},
       {"persistence_time", {-1.0, 1e7}},
       {"persistence_min_length", {-0.1, 1000.0}},
+      {"departure_min_angle", {-0.1, 7.0}},
       {"penetration_tolerance", {-0.1, 10.0}},
       {"max_reflection_iterations", {0, 1000}},
       {"scan_buffer_size", {-1, 1e7}},

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <random>
 
 namespace rfm {
@@ -55,6 +56,48 @@ TEST(ReflectanceField, BayesUpdatesPerBinAndSummaries) {
   EXPECT_EQ(field.missedBins(cell), 1);
   field.applyMiss(cell, 179);
   EXPECT_EQ(field.missedBins(cell), 2);
+}
+
+// A departure: bins that reflected at a tick and are now confidently missed. Seen through only
+// in other directions (glass) or never (a wall) is no departure, and small cells keep no history.
+TEST(ReflectanceField, ContradictedBinsAreFormerlyReflectiveBinsNowSeenThrough) {
+  ReflectanceField field = smallField();
+  const CellIndex person(1, 1), pane(-3, 2), wall(5, -5), speck(0, -6);
+  for (int bin = 20; bin < 60; ++bin) {
+    for (int i = 0; i < 5; ++i) {
+      field.applyHit(person, bin);
+      field.applyHit(wall, bin);
+    }
+  }
+  for (int i = 0; i < 5; ++i)
+    field.applyHit(pane, 90);
+  field.tickPersistence(/*remembered_min_bins=*/1);
+  for (int bin = 0; bin < 180; ++bin) {  // the pane is seen through away from its normal
+    if (std::abs(bin - 90) > 2) field.applyMiss(pane, bin);
+  }
+  for (int i = 0; i < 5; ++i)
+    field.applyHit(speck, 40);
+  field.tickPersistence(/*remembered_min_bins=*/5);  // the speck is too small to remember
+  for (int i = 0; i < 20; ++i) {
+    for (int bin = 40; bin < 44; ++bin) {  // the person has left: rays pass where they reflected
+      field.applyMiss(person, bin);
+      field.applyMiss(speck, bin);
+    }
+    field.applyMiss(person, 100);  // and beyond, which says nothing about a departure
+  }
+  field.applyMiss(wall, 45);  // once: not confident
+  field.applyMiss(wall, 45);
+  field.applyMiss(wall, 45);
+  const ReflectanceField& f = field;
+  auto contradicted = [&](const CellIndex& c) {
+    return f.contradictedBinsAt(f.window().storageIndex(c));
+  };
+  EXPECT_EQ(contradicted(person), 4);
+  EXPECT_EQ(contradicted(pane), 0);
+  EXPECT_EQ(contradicted(wall), 0);
+  EXPECT_EQ(contradicted(speck), 0);
+  field.clear();
+  EXPECT_EQ(contradicted(person), 0);
 }
 
 TEST(ReflectanceField, SummariesMatchBinsAfterRandomUpdates) {

@@ -26,18 +26,21 @@ struct MotionRemovalCounts {
 // iterative union-find. A component touching a widely visible cell (eq. 7), a known obstacle
 // just outside the box, or a long-lived cell when the component is long enough, is a static
 // structure: its cells are static (widely visible) or glass/metal; any other component is
-// motion.
+// motion. Cells seen through where they used to reflect (a departure) anchor nothing.
 class MotionRemover {
  public:
   // `persistence_ticks` > 0: cells confirmed for that many persistence ticks anchor their
   // component too (ReflectanceField::confirmedTicks).
   // With `persistence_min_cells` > 0 such cells anchor only components at least that long
   // (bounding box side, in cells): a person standing still is smaller than structure.
+  // With `departure_min_bins` > 0, cells with that many contradicted bins
+  // (ReflectanceField::contradictedBinsAt) anchor nothing: what stood there has left.
   explicit MotionRemover(const OccupancyRule& rule, int persistence_ticks = 0,
-                         int persistence_min_cells = 0)
+                         int persistence_min_cells = 0, int departure_min_bins = 0)
       : rule_(rule),
         persistence_ticks_(persistence_ticks),
-        persistence_min_cells_(persistence_min_cells) {}
+        persistence_min_cells_(persistence_min_cells),
+        departure_min_bins_(departure_min_bins) {}
 
   // Classifies every cell of `box` (inside the field's active window) into `classes`
   // (row-major, x fastest). `outside` gives the known class of cells just outside the box and
@@ -73,6 +76,7 @@ class MotionRemover {
   OccupancyRule rule_;
   int persistence_ticks_;
   int persistence_min_cells_;
+  int departure_min_bins_;
   std::vector<Run> runs_;
   std::vector<std::vector<Run>> band_runs_;  // per band, before joining into runs_
   std::vector<uint32_t> cell_first_run_;     // CSR over box cells, size cells + 1

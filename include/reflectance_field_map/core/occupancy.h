@@ -25,6 +25,9 @@ class OccupancyRule {
   bool isWidelyVisible(const ReflectanceField& field, const CellIndex& cell) const {
     return field.marginalOdds(cell) > options_.beta;
   }
+  // Fewest reflective bins a widely visible cell can have: every other bin at most at the prior
+  // (odds 1) and these at the clamp's maximum odds.
+  int minWidelyVisibleBins(const LogOddsModel& model, int bins) const;
   // A glassy cell with a lobe at least this wide is metal.
   bool isMetalLobe(int reflective_bins) const { return reflective_bins >= metal_min_bins_; }
 

@@ -75,6 +75,12 @@ struct MotionRemovalOptions {
   // person standing still is smaller than most walls. 0 (default): any size, because the end of
   // a corridor seen from afar is as short as a person (the real stationary recording).
   double persistence_min_length = 0.0;
+  // A widely visible or long-confirmed cell stops anchoring once rays have confidently passed
+  // through it in this much of the angle it was reflective in at a persistence tick: whatever
+  // stood there has gone (a person who stood still, then walked away). Opaque structure is never
+  // seen through from a direction it reflects in; glass reflects only where it is not seen
+  // through. rad, 0 disables.
+  double departure_min_angle = 0.10471975511965977;  // 6 deg: 3 bins at the default 2 deg
   void validate() const;
 };
 

@@ -9,6 +9,8 @@
 
 #include <cstdint>
 #include <iosfwd>
+#include <limits>
+#include <unordered_map>
 #include <vector>
 
 namespace rfm {
@@ -169,7 +171,14 @@ class ReflectanceField {
   // again between ticks, saturating at 255, and resets when it stops being reflective.
   // Long-confirmed evidence is structure even when seen from a single place; evidence that is
   // merely never contradicted does not count.
-  void tickPersistence();
+  // Cells with at least `remembered_min_bins` reflective bins also add them to their history
+  // (see contradictedBinsAt): fewer bins can never be widely visible, so they are not kept.
+  void tickPersistence(int remembered_min_bins = std::numeric_limits<int>::max());
+  // Bins of the cell that were reflective at a persistence tick and are now missed with at least
+  // half the clamp's confidence: something that was seen there is gone (a person who stood
+  // still, then left). 0 for cells without history. Static structure, opaque, is not seen through
+  // from a direction it reflected in.
+  int contradictedBinsAt(int storage_index) const;
 
   // eq. 7: sum over theta of the odds of reflectance times the bin width (rad).
   double marginalOdds(const CellIndex& cell) const;
@@ -220,6 +229,8 @@ class ReflectanceField {
   std::vector<uint8_t> hit_since_tick_;     // [y][x]
   std::vector<uint16_t> reflective_bins_;   // [y][x]
   std::vector<uint8_t> confirmed_ticks_;    // [y][x]
+  // Sparse (only cells that could be widely visible): bins reflective at some tick.
+  std::unordered_map<int, std::vector<uint64_t>> reflective_history_;  // by storage index
   TileArchive archive_;
 };
 
