@@ -127,7 +127,14 @@ double ReflectanceField::marginalOddsAt(int storage_index) const {
 size_t ReflectanceField::activeBytes() const {
   return bins_.size() * sizeof(int8_t) + reflective_masks_.size() * sizeof(uint64_t) +
          missed_bins_.size() * sizeof(uint16_t) + hit_since_tick_.size() +
-         reflective_bins_.size() * sizeof(uint16_t) + confirmed_ticks_.size();
+         reflective_bins_.size() * sizeof(uint16_t) + confirmed_ticks_.size() + historyBytes();
+}
+
+size_t ReflectanceField::historyBytes() const {
+  // Per entry: the mask words, the vector and key, a hash node and its bucket pointer.
+  const size_t entry = mask_words_ * sizeof(uint64_t) + sizeof(std::vector<uint64_t>) +
+                       sizeof(int) + 2 * sizeof(void*) + sizeof(void*);
+  return reflective_history_.size() * entry;
 }
 
 int ReflectanceField::contradictedBinsAt(int storage_index) const {
