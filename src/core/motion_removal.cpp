@@ -73,13 +73,8 @@ void MotionRemover::unite(uint32_t a, uint32_t b) {
 
 bool MotionRemover::widelyVisible(const ReflectanceField& field, int slot,
                                   int reflective_bins) const {
-  // Upper bound of eq. 7 from the bin counts first: the exact sum reads every bin.
-  const LogOddsModel& model = field.logOdds();
-  const int bins = field.geometry().thetaBins();
-  const double bound = (reflective_bins * static_cast<double>(model.odds(model.maxValue())) +
-                        (bins - reflective_bins)) *
-                       field.geometry().binWidth();
-  if (bound <= rule_.options().beta) return false;
+  // Too few reflective bins cannot reach beta: the exact sum reads every bin.
+  if (reflective_bins < min_widely_visible_bins_) return false;
   return field.marginalOddsAt(slot) > rule_.options().beta;
 }
 
@@ -118,12 +113,15 @@ void MotionRemover::joinBand(const ReflectanceField& field, const CellBox& box, 
       for (uint32_t r = first; r < last; ++r)
         reflective += runs_[r].length;
       const int slot = slots_[local];
-      const bool departed =
-          departure_min_bins_ > 0 && field.contradictedBinsAt(slot) >= departure_min_bins_;
-      const bool anchor = !departed && widelyVisible(field, slot, reflective);
+      const bool visible = widelyVisible(field, slot, reflective);
+      const bool confirmed =
+          persistence_ticks_ > 0 && field.confirmedTicksAt(slot) >= persistence_ticks_;
+      // Only a would-be anchor needs its history read.
+      const bool departed = (visible || confirmed) && departure_min_bins_ > 0 &&
+                            field.contradictedBinsAt(slot) >= departure_min_bins_;
+      const bool anchor = visible && !departed;
       widely_visible_[local] = anchor;
-      const bool persistent =
-          !departed && persistence_ticks_ > 0 && field.confirmedTicksAt(slot) >= persistence_ticks_;
+      const bool persistent = confirmed && !departed;
       if (persistent && persistence_min_cells_ > 0) {
         for (uint32_t r = first; r < last; ++r)
           persistent_[find(r)] = 1;  // anchors only if the component proves long enough
@@ -236,6 +234,7 @@ MotionRemovalCounts MotionRemover::classify(
       cell_first_run_[local] += band_offset[p];
   });
 
+  min_widely_visible_bins_ = rule_.minWidelyVisibleBins(field.logOdds(), bins);
   parent_.resize(runs_.size());
   for (uint32_t i = 0; i < parent_.size(); ++i)
     parent_[i] = i;

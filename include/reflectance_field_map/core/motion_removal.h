@@ -77,6 +77,7 @@ class MotionRemover {
   int persistence_ticks_;
   int persistence_min_cells_;
   int departure_min_bins_;
+  int min_widely_visible_bins_ = 0;  // of the field being classified (OccupancyRule)
   std::vector<Run> runs_;
   std::vector<std::vector<Run>> band_runs_;  // per band, before joining into runs_
   std::vector<uint32_t> cell_first_run_;     // CSR over box cells, size cells + 1

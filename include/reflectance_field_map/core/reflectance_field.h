@@ -184,7 +184,7 @@ class ReflectanceField {
   double marginalOdds(const CellIndex& cell) const;
 
   // Memory.
-  size_t activeBytes() const;  // includes historyBytes()
+  size_t activeBytes() const;   // includes historyBytes()
   size_t historyBytes() const;  // the departure history (estimated, hash map overhead included)
   size_t archivedBytes() const { return archive_.bytes(); }
   size_t archivedTiles() const { return archive_.tileCount(); }
