@@ -1,6 +1,8 @@
 #include "reflectance_field_map/core/laser_scan.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace rfm {
@@ -56,6 +58,47 @@ void scanToRays(const LaserScan2D& scan, const Pose2D& sensor_pose, const Insert
     ray.beam = static_cast<uint32_t>(beam);
     ray.hit = hit;
     rays.push_back(ray);
+  }
+}
+
+void beamsTowardsBox(const CellBox& box, double resolution, const Eigen::Vector2d& origin,
+                     double first_beam_angle, double increment, std::vector<BeamRange>& ranges) {
+  ranges.clear();
+  const Eigen::Vector2d low = box.min.cast<double>() * resolution;
+  const Eigen::Vector2d high = box.max.cast<double>() * resolution;
+  const Eigen::Vector2d margin = Eigen::Vector2d::Constant(resolution);
+  if ((origin.array() >= (low - margin).array()).all() &&
+      (origin.array() <= (high + margin).array()).all()) {
+    ranges.push_back({0, std::numeric_limits<uint32_t>::max()});
+    return;
+  }
+  // Outside the box, its extent is under pi and spanned by its corners.
+  const Eigen::Vector2d centre = 0.5 * (low + high) - origin;
+  const double towards_centre = std::atan2(centre.y(), centre.x());
+  double lo = 0.0, hi = 0.0;
+  for (const Eigen::Vector2d& corner :
+       {low, high, Eigen::Vector2d(low.x(), high.y()), Eigen::Vector2d(high.x(), low.y())}) {
+    const Eigen::Vector2d d = corner - origin;
+    const double offset = std::remainder(std::atan2(d.y(), d.x()) - towards_centre, 2.0 * M_PI);
+    lo = std::min(lo, offset);
+    hi = std::max(hi, offset);
+  }
+  const double slack = 2.0 * increment;
+  double start = std::fmod(towards_centre + lo - slack - first_beam_angle, 2.0 * M_PI);
+  if (start < 0.0) start += 2.0 * M_PI;
+  const double end = start + (hi - lo) + 2.0 * slack;
+  auto beam_at_or_after = [&](double angle) {
+    return static_cast<uint32_t>(std::clamp(std::ceil(angle / increment), 0.0, 4e9));
+  };
+  auto beam_at_or_before = [&](double angle) {
+    return static_cast<uint32_t>(std::clamp(std::floor(angle / increment), 0.0, 4e9));
+  };
+  // The extent and its copies a turn either side (a scan of over a turn repeats directions).
+  for (const double turn : {-2.0 * M_PI, 0.0, 2.0 * M_PI}) {
+    if (end + turn >= 0.0) {
+      ranges.push_back(
+          {beam_at_or_after(std::max(0.0, start + turn)), beam_at_or_before(end + turn)});
+    }
   }
 }
 

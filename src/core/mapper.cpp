@@ -34,7 +34,10 @@ int unitsIn(double value, double unit) {
 
 // A scan as inserted, kept for online re-processing when new glass appears.
 struct BufferedScan {
-  std::vector<Ray> rays;  // after clipping to the window and truncation at known glass
+  std::vector<Ray> rays;    // after clipping to the window and truncation at known glass
+  Eigen::Vector2d origin;   // of every ray (the sensor, inside the window)
+  double first_beam_angle;  // world direction of beam 0, rad
+  double increment;         // rad between beams
 };
 
 struct Mapper::Impl {
@@ -132,7 +135,9 @@ ScanUpdate Mapper::addScan(const TimedScan& scan) {
   tickPersistenceIfDue(scan.stamp);
 
   if (options_.reflection_removal.scan_buffer_size > 0) {
-    impl_->buffer.push_back({rays});
+    impl_->buffer.push_back({rays, scan.sensor_pose.position,
+                             scan.sensor_pose.yaw + scan.scan.angle_min,
+                             static_cast<double>(scan.scan.angle_increment)});
     while (impl_->buffer.size() >
            static_cast<size_t>(options_.reflection_removal.scan_buffer_size)) {
       impl_->buffer.pop_front();
@@ -187,39 +192,59 @@ MotionRemovalSummary Mapper::removeMotion() {
   struct alignas(64) RowResult {
     size_t blocking = 0;
     CellBox new_glass;
+    bool emptiness_changed = false;  // a cell became or stopped being free/unknown
   };
   std::vector<RowResult> rows(box.height());
+  const bool removed_motion = options_.motion_removal.motion_removal_enabled;
   parallelFor(impl_->runner.get(), rows.size(), 16, [&](size_t row, int) {
     const int y = box.min.y() + static_cast<int>(row);
-    size_t i = row * box.width();
     RowResult& result = rows[row];
-    field_.window().forEachCell(
-        {{box.min.x(), y}, {box.max.x(), y + 1}}, [&](int x, int, int slot) {
-          CellClass& stored = impl_->classes[slot];
-          const CellClass now = box_classes[i++];
-          if (blocksRays(now)) {
-            ++result.blocking;
-            if (!blocksRays(stored) && now != CellClass::kStatic) {
-              result.new_glass = result.new_glass.unite({{x, y}, {x + 1, y + 1}});
+    field_.window().forEachTileSpan(
+        {{box.min.x(), y}, {box.max.x(), y + 1}}, [&](int, int x_begin, int x_end, int slot) {
+          // A reused tile's cells, free or unknown, are stored already.
+          if (removed_motion && impl_->remover.reusedTile({x_begin, y})) return;
+          size_t i = row * box.width() + (x_begin - box.min.x());
+          for (int x = x_begin; x < x_end; ++x, ++slot) {
+            CellClass& stored = impl_->classes[slot];
+            const CellClass now = box_classes[i++];
+            if (blocksRays(now)) {
+              ++result.blocking;
+              if (!blocksRays(stored) && now != CellClass::kStatic) {
+                result.new_glass = result.new_glass.unite({{x, y}, {x + 1, y + 1}});
+              }
             }
+            result.emptiness_changed |= isEmptySpace(stored) != isEmptySpace(now);
+            stored = now;
           }
-          stored = now;
         });
   });
   CellBox new_glass;
+  bool emptiness_changed = false;
   impl_->blocking_cells = 0;
   for (const RowResult& result : rows) {
     impl_->blocking_cells += result.blocking;
     new_glass = new_glass.unite(result.new_glass);
+    emptiness_changed |= result.emptiness_changed;
   }
-  impl_->clearance.compute(box, [&](int dx, int dy) {
-    const CellClass c = box_classes[static_cast<size_t>(dy) * box.width() + dx];
-    return c == CellClass::kFree || c == CellClass::kUnknown;
-  });
-  map_.assign(box, [&](const CellIndex& cell) {
+  const CellBox& clearance_box = impl_->clearance.box();
+  if (emptiness_changed || clearance_box.min != box.min || clearance_box.max != box.max) {
+    impl_->clearance.compute(box, [&](int dx, int dy) {
+      return isEmptySpace(box_classes[static_cast<size_t>(dy) * box.width() + dx]);
+    });
+  }
+  auto box_class = [&](const CellIndex& cell) {
     return box_classes[static_cast<size_t>(cell.y() - box.min.y()) * box.width() +
                        (cell.x() - box.min.x())];
-  });
+  };
+  if (!removed_motion) {
+    map_.assign(box, box_class);
+  } else {
+    // Reused tiles hold what the map got last time.
+    for (const TileIndex& tile : field_.window().tiles()) {
+      const CellBox tile_box = field_.window().tileBox(tile);
+      if (!impl_->remover.reusedTile(tile_box.min)) map_.assign(tile_box, box_class);
+    }
+  }
   summary.new_glass = !new_glass.empty();
   if (summary.new_glass && options_.reflection_removal.reflection_removal_enabled) {
     revertEvidenceBehindGlass(new_glass);
@@ -242,24 +267,39 @@ void Mapper::revertEvidenceBehindGlass(const CellBox& new_glass) {
   const double resolution = geometry.resolution();
   std::vector<BinUpdate> before, after;
   std::vector<Ray> old_rays, new_rays;
+  std::vector<std::pair<size_t, Ray>> truncated;  // index in the scan, ray cut at the glass
   std::vector<uint8_t> bin_changed(geometry.thetaBins());
+  std::vector<BeamRange> beam_ranges;
+  auto by_beam = [](const Ray& ray, uint32_t beam) { return ray.beam < beam; };
   for (BufferedScan& buffered : impl_->buffer) {
-    std::fill(bin_changed.begin(), bin_changed.end(), 0);
-    bool changed = false;
-    std::vector<Ray> truncated = buffered.rays;
-    for (Ray& ray : truncated) {
-      Ray probe = ray;
-      if (!clipRayToBox(new_glass, resolution, probe) || !truncateAtGlass(ray)) continue;
-      bin_changed[geometry.binOf(ray.angle)] = 1;
-      changed = true;
+    truncated.clear();
+    // Rays are in beam order: only those heading towards the new glass are looked at.
+    beamsTowardsBox(new_glass, resolution, buffered.origin, buffered.first_beam_angle,
+                    buffered.increment, beam_ranges);
+    for (const BeamRange& range : beam_ranges) {
+      auto it = std::lower_bound(buffered.rays.begin(), buffered.rays.end(), range.first, by_beam);
+      for (; it != buffered.rays.end() && it->beam <= range.last; ++it) {
+        Ray ray = *it;
+        if (!clipRayToBox(new_glass, resolution, ray)) continue;  // misses the new glass
+        ray = *it;
+        if (truncateAtGlass(ray)) truncated.emplace_back(it - buffered.rays.begin(), ray);
+      }
     }
-    if (!changed) continue;
+    std::sort(truncated.begin(), truncated.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
+    if (truncated.empty()) continue;
+    std::fill(bin_changed.begin(), bin_changed.end(), 0);
+    for (const auto& changed : truncated)
+      bin_changed[geometry.binOf(changed.second.angle)] = 1;
     old_rays.clear();
     new_rays.clear();
-    for (size_t k = 0; k < truncated.size(); ++k) {
-      if (!bin_changed[geometry.binOf(truncated[k].angle)]) continue;
+    auto next_truncated = truncated.begin();
+    for (size_t k = 0; k < buffered.rays.size(); ++k) {
+      const bool cut = next_truncated != truncated.end() && next_truncated->first == k;
+      const Ray& now = cut ? (next_truncated++)->second : buffered.rays[k];
+      if (!bin_changed[geometry.binOf(now.angle)]) continue;
       old_rays.push_back(buffered.rays[k]);
-      new_rays.push_back(truncated[k]);
+      new_rays.push_back(now);
     }
     impl_->inserter.collectUpdates(old_rays, field_, before);
     impl_->inserter.collectUpdates(new_rays, field_, after);
@@ -278,15 +318,15 @@ void Mapper::revertEvidenceBehindGlass(const CellBox& new_glass) {
         ++j;
       }
     }
-    buffered.rays = std::move(truncated);
+    for (const auto& changed : truncated)
+      buffered.rays[changed.first] = changed.second;
   }
 }
 
 void Mapper::updateClearance() {
   const CellBox box = field_.activeBox();
   impl_->clearance.compute(box, [&](int dx, int dy) {
-    const CellClass c = impl_->classes[field_.window().storageIndex(box.min + CellIndex(dx, dy))];
-    return c == CellClass::kFree || c == CellClass::kUnknown;
+    return isEmptySpace(impl_->classes[field_.window().storageIndex(box.min + CellIndex(dx, dy))]);
   });
 }
 
@@ -393,7 +433,7 @@ double Mapper::passThroughDistance(const Ray& ray) const {
                    field_.isReflectiveAt(slot, (bin + 1) % bins) ||
                    field_.isReflectiveAt(slot, (bin + bins - 1) % bins);
           };
-          if (c == CellClass::kFree || c == CellClass::kUnknown) {
+          if (isEmptySpace(c)) {
             if (detector.blocked()) return detector.visit({x, y}, c, reflective_near, class_of);
             // Well clear of structure again: leap from here (the cell centre's projection lies
             // in this cell or a neighbour, all of them empty).

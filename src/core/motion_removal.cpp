@@ -9,41 +9,109 @@ bool binIntervalsOverlap(int a, int a_len, int b, int b_len, int bins) {
   return positiveMod(b - a, bins) < a_len || positiveMod(a - b, bins) < b_len;
 }
 
+namespace {
+
+// Appends the runs of contiguous reflective bins of one cell's mask.
+template <typename Run>
+void appendRuns(const uint64_t* mask, int bins, std::vector<Run>& runs) {
+  const size_t first = runs.size();
+  int bin = 0;
+  while (bin < bins) {
+    const uint64_t word = mask[bin >> 6] >> (bin & 63);
+    if (word == 0) {  // skip to the next word
+      bin = (bin | 63) + 1;
+      continue;
+    }
+    bin += __builtin_ctzll(word);
+    if (bin >= bins) break;
+    const int start = bin;
+    while (bin < bins && ((mask[bin >> 6] >> (bin & 63)) & 1u))
+      ++bin;
+    runs.push_back({static_cast<int16_t>(start), static_cast<int16_t>(bin - start)});
+  }
+  // A run ending at the last bin continues into the one starting at bin 0.
+  if (runs.size() - first >= 2 && runs[first].first_bin == 0 &&
+      runs.back().first_bin + runs.back().length == bins) {
+    runs.back().length = static_cast<int16_t>(runs.back().length + runs[first].length);
+    runs.erase(runs.begin() + static_cast<std::ptrdiff_t>(first));
+  }
+}
+
+bool boxContains(const CellBox& outer, const CellBox& inner) {
+  return inner.min.x() >= outer.min.x() && inner.min.y() >= outer.min.y() &&
+         inner.max.x() <= outer.max.x() && inner.max.y() <= outer.max.y();
+}
+
+CellBox bandBox(const CellBox& box, int first_row, int end_row) {
+  return {{box.min.x(), box.min.y() + first_row}, {box.max.x(), box.min.y() + end_row}};
+}
+
+}  // namespace
+
+void MotionRemover::planTiles(const ReflectanceField& field, const CellBox& box) {
+  const RollingWindow& window = field.window();
+  tile_cells_ = window.tileCells();
+  first_tile_ = window.tileOf(box.min);
+  const TileIndex last = window.tileOf(box.max - CellIndex(1, 1));
+  box_tiles_x_ = last.x() - first_tile_.x() + 1;
+  tile_work_.assign(static_cast<size_t>(box_tiles_x_) * (last.y() - first_tile_.y() + 1),
+                    TileWork::kComponents);
+  const bool same_field = previous_field_ == field.identity();
+  size_t i = 0;
+  for (int ty = first_tile_.y(); ty <= last.y(); ++ty) {
+    for (int tx = first_tile_.x(); tx <= last.x(); ++tx, ++i) {
+      const TileIndex tile(tx, ty);
+      const int storage_tile = window.tileFirstSlot(tile) >> window.tileSlotShift();
+      if (field.tileReflectiveCells(storage_tile) > 0) continue;
+      const CellBox tile_box = window.tileBox(tile);
+      const bool unchanged = same_field && boxContains(box, tile_box) &&
+                             boxContains(previous_box_, tile_box) &&
+                             previous_versions_[storage_tile] == field.tileVersion(storage_tile);
+      tile_work_[i] = unchanged ? TileWork::kReuse : TileWork::kFreeSpace;
+    }
+  }
+}
+
+void MotionRemover::rememberResult(const ReflectanceField& field, const CellBox& box,
+                                   const std::vector<CellClass>& classes) {
+  const RollingWindow& window = field.window();
+  previous_field_ = field.identity();
+  previous_box_ = box;
+  previous_classes_ = classes;
+  previous_versions_.resize(window.storageTiles());
+  const TileIndex last = window.tileOf(box.max - CellIndex(1, 1));
+  for (int ty = first_tile_.y(); ty <= last.y(); ++ty) {
+    for (int tx = first_tile_.x(); tx <= last.x(); ++tx) {
+      const int storage_tile = window.tileFirstSlot({tx, ty}) >> window.tileSlotShift();
+      previous_versions_[storage_tile] = field.tileVersion(storage_tile);
+    }
+  }
+}
+
 void MotionRemover::collectRuns(const ReflectanceField& field, const CellBox& box, const Band& band,
                                 std::vector<Run>& runs) {
   const int bins = field.geometry().thetaBins();
-  const int width = box.width();
+  const size_t width = box.width();
   runs.clear();
-  size_t local = static_cast<size_t>(band.first_row) * width;
-  const CellBox rows{{box.min.x(), box.min.y() + band.first_row},
-                     {box.max.x(), box.min.y() + band.end_row}};
-  field.window().forEachCell(rows, [&](int, int, int slot) {
-    slots_[local] = slot;
-    cell_first_run_[local++] = static_cast<uint32_t>(runs.size());  // band-relative for now
-    if (!field.anyReflectiveAt(slot)) return;
-    const uint64_t* mask = field.reflectiveMaskAt(slot);
-    const size_t first = runs.size();
-    int bin = 0;
-    while (bin < bins) {
-      const uint64_t word = mask[bin >> 6] >> (bin & 63);
-      if (word == 0) {  // skip to the next word
-        bin = (bin | 63) + 1;
-        continue;
-      }
-      bin += __builtin_ctzll(word);
-      if (bin >= bins) break;
-      const int start = bin;
-      while (bin < bins && ((mask[bin >> 6] >> (bin & 63)) & 1u))
-        ++bin;
-      runs.push_back({static_cast<int16_t>(start), static_cast<int16_t>(bin - start)});
-    }
-    // A run ending at the last bin continues into the one starting at bin 0.
-    if (runs.size() - first >= 2 && runs[first].first_bin == 0 &&
-        runs.back().first_bin + runs.back().length == bins) {
-      runs.back().length = static_cast<int16_t>(runs.back().length + runs[first].length);
-      runs.erase(runs.begin() + static_cast<std::ptrdiff_t>(first));
-    }
-  });
+  field.window().forEachTileSpan(
+      bandBox(box, band.first_row, band.end_row), [&](int y, int x_begin, int x_end, int slot) {
+        size_t local = (y - box.min.y()) * width + (x_begin - box.min.x());
+        const TileWork work = tile_work_[boxTileOf(x_begin, y)];
+        if (work != TileWork::kComponents) {
+          // Band-relative run offsets for now; free-space cells need their slots later.
+          std::fill_n(&cell_first_run_[local], x_end - x_begin, static_cast<uint32_t>(runs.size()));
+          if (work == TileWork::kFreeSpace) {
+            for (int x = x_begin; x < x_end; ++x)
+              slots_[local++] = slot++;
+          }
+          return;
+        }
+        for (int x = x_begin; x < x_end; ++x, ++local, ++slot) {
+          slots_[local] = slot;
+          cell_first_run_[local] = static_cast<uint32_t>(runs.size());
+          if (field.anyReflectiveAt(slot)) appendRuns(field.reflectiveMaskAt(slot), bins, runs);
+        }
+      });
 }
 
 uint32_t MotionRemover::find(uint32_t node) {
@@ -101,11 +169,11 @@ void MotionRemover::joinBand(const ReflectanceField& field, const CellBox& box, 
   const CellIndex forward[4] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}};
   const CellIndex around[8] = {{1, 0}, {-1, 0}, {0, 1},  {0, -1},
                                {1, 1}, {-1, 1}, {1, -1}, {-1, -1}};
-  const CellBox band_box{{box.min.x(), box.min.y() + band.first_row},
-                         {box.max.x(), box.min.y() + band.end_row}};
-  size_t local = static_cast<size_t>(band.first_row) * width;
-  for (int y = band_box.min.y(); y < band_box.max.y(); ++y) {
-    for (int x = box.min.x(); x < box.max.x(); ++x, ++local) {
+  const CellBox band_box = bandBox(box, band.first_row, band.end_row);
+  field.window().forEachTileSpan(band_box, [&](int y, int x_begin, int x_end, int) {
+    if (tile_work_[boxTileOf(x_begin, y)] != TileWork::kComponents) return;  // no runs
+    size_t local = static_cast<size_t>(y - box.min.y()) * width + (x_begin - box.min.x());
+    for (int x = x_begin; x < x_end; ++x, ++local) {
       const uint32_t first = cell_first_run_[local], last = cell_first_run_[local + 1];
       if (first == last) continue;
       const CellIndex cell(x, y);
@@ -151,7 +219,7 @@ void MotionRemover::joinBand(const ReflectanceField& field, const CellBox& box, 
             local, static_cast<size_t>(n.y() - box.min.y()) * width + (n.x() - box.min.x()), bins);
       }
     }
-  }
+  });
 }
 
 void MotionRemover::joinRows(const CellBox& box, int row, int bins) {
@@ -174,30 +242,55 @@ void MotionRemover::classifyBand(const ReflectanceField& field, const CellBox& b
                                  const Band& band, std::vector<CellClass>& classes,
                                  MotionRemovalCounts& counts) const {
   const size_t width = box.width();
-  for (size_t local = band.first_row * width; local < band.end_row * width; ++local) {
-    const uint32_t first = cell_first_run_[local], last = cell_first_run_[local + 1];
-    int reflective = 0, widest = 0;
-    bool anchored = false;
-    for (uint32_t r = first; r < last; ++r) {
-      reflective += runs_[r].length;
-      widest = std::max<int>(widest, runs_[r].length);
-      anchored |= anchored_[root_[r]] != 0 || (persistent_[root_[r]] && longEnough(root_[r]));
-    }
-    CellClass& c = classes[local];
-    if (!rule_.isOccupied(reflective)) {
-      c = field.missedBinsAt(slots_[local]) > 0 ? CellClass::kFree : CellClass::kUnknown;
-      counts.free_cells += c == CellClass::kFree;
-    } else if (widely_visible_[local]) {
-      c = CellClass::kStatic;
-      ++counts.static_cells;
-    } else if (anchored) {
-      c = rule_.isMetalLobe(widest) ? CellClass::kMetal : CellClass::kGlass;
-      ++(c == CellClass::kMetal ? counts.metal_cells : counts.glass_cells);
-    } else {
-      c = CellClass::kMotion;
-      ++counts.motion_cells;
-    }
-  }
+  field.window().forEachTileSpan(
+      bandBox(box, band.first_row, band.end_row), [&](int y, int x_begin, int x_end, int) {
+        const size_t begin = (y - box.min.y()) * width + (x_begin - box.min.x());
+        const size_t end = begin + (x_end - x_begin);
+        switch (tile_work_[boxTileOf(x_begin, y)]) {
+          case TileWork::kReuse: {
+            const CellClass* previous =
+                &previous_classes_[static_cast<size_t>(y - previous_box_.min.y()) *
+                                       previous_box_.width() +
+                                   (x_begin - previous_box_.min.x())];
+            std::copy(previous, previous + (end - begin), &classes[begin]);
+            counts.free_cells += std::count(previous, previous + (end - begin), CellClass::kFree);
+            return;
+          }
+          case TileWork::kFreeSpace:
+            for (size_t local = begin; local < end; ++local) {
+              const bool free = field.missedBinsAt(slots_[local]) > 0;
+              classes[local] = free ? CellClass::kFree : CellClass::kUnknown;
+              counts.free_cells += free;
+            }
+            return;
+          case TileWork::kComponents:
+            break;
+        }
+        for (size_t local = begin; local < end; ++local) {
+          const uint32_t first = cell_first_run_[local], last = cell_first_run_[local + 1];
+          int reflective = 0, widest = 0;
+          bool anchored = false;
+          for (uint32_t r = first; r < last; ++r) {
+            reflective += runs_[r].length;
+            widest = std::max<int>(widest, runs_[r].length);
+            anchored |= anchored_[root_[r]] != 0 || (persistent_[root_[r]] && longEnough(root_[r]));
+          }
+          CellClass& c = classes[local];
+          if (!rule_.isOccupied(reflective)) {
+            c = field.missedBinsAt(slots_[local]) > 0 ? CellClass::kFree : CellClass::kUnknown;
+            counts.free_cells += c == CellClass::kFree;
+          } else if (widely_visible_[local]) {
+            c = CellClass::kStatic;
+            ++counts.static_cells;
+          } else if (anchored) {
+            c = rule_.isMetalLobe(widest) ? CellClass::kMetal : CellClass::kGlass;
+            ++(c == CellClass::kMetal ? counts.metal_cells : counts.glass_cells);
+          } else {
+            c = CellClass::kMotion;
+            ++counts.motion_cells;
+          }
+        }
+      });
 }
 
 MotionRemovalCounts MotionRemover::classify(
@@ -216,6 +309,7 @@ MotionRemovalCounts MotionRemover::classify(
   auto forEachBand = [&](const std::function<void(int)>& body) {
     parallelFor(runner, parts, 1, [&](size_t p, int) { body(static_cast<int>(p)); });
   };
+  planTiles(field, box);
   // Runs per band, then one run list with global indices.
   slots_.resize(cells);
   cell_first_run_.assign(cells + 1, 0);
@@ -226,14 +320,6 @@ MotionRemovalCounts MotionRemover::classify(
     band_offset[p + 1] = band_offset[p] + static_cast<uint32_t>(band_runs_[p].size());
   runs_.resize(band_offset[parts]);
   cell_first_run_[cells] = band_offset[parts];
-  forEachBand([&](int p) {
-    std::copy(band_runs_[p].begin(), band_runs_[p].end(), runs_.begin() + band_offset[p]);
-    const size_t begin = static_cast<size_t>(bands[p].first_row) * box.width();
-    const size_t end = static_cast<size_t>(bands[p].end_row) * box.width();
-    for (size_t local = begin; local < end; ++local)
-      cell_first_run_[local] += band_offset[p];
-  });
-
   min_widely_visible_bins_ = rule_.minWidelyVisibleBins(field.logOdds(), bins);
   parent_.resize(runs_.size());
   for (uint32_t i = 0; i < parent_.size(); ++i)
@@ -243,19 +329,24 @@ MotionRemovalCounts MotionRemover::classify(
   persistent_.assign(runs_.size(), 0);
   // Component lengths matter only to the persistence rule with a minimum length.
   extent_.resize(persistence_min_cells_ > 0 ? runs_.size() : 0);
-  if (persistence_min_cells_ > 0) {
-    forEachBand([&](int p) {
-      for (int row = bands[p].first_row; row < bands[p].end_row; ++row) {
-        for (int col = 0; col < box.width(); ++col) {
-          const size_t local = static_cast<size_t>(row) * box.width() + col;
-          for (uint32_t r = cell_first_run_[local]; r < cell_first_run_[local + 1]; ++r) {
-            extent_[r] = {static_cast<int16_t>(col), static_cast<int16_t>(row),
-                          static_cast<int16_t>(col), static_cast<int16_t>(row)};
-          }
-        }
-      }
-    });
-  }
+  forEachBand([&](int p) {
+    std::copy(band_runs_[p].begin(), band_runs_[p].end(), runs_.begin() + band_offset[p]);
+    const size_t begin = static_cast<size_t>(bands[p].first_row) * box.width();
+    const size_t end = static_cast<size_t>(bands[p].end_row) * box.width();
+    const uint32_t offset = band_offset[p];
+    for (size_t local = begin; local < end; ++local) {
+      // Still band-relative here, this cell's and the next one's.
+      const uint32_t first = cell_first_run_[local];
+      const uint32_t last = local + 1 < end ? cell_first_run_[local + 1]
+                                            : static_cast<uint32_t>(band_runs_[p].size());
+      cell_first_run_[local] = first + offset;
+      if (first == last || persistence_min_cells_ == 0) continue;
+      const auto col = static_cast<int16_t>(local % box.width());
+      const auto row = static_cast<int16_t>(local / box.width());
+      for (uint32_t r = first + offset; r < last + offset; ++r)
+        extent_[r] = {col, row, col, row};
+    }
+  });
   widely_visible_.assign(cells, 0);
   // Each band unites only its own runs, so bands do not touch each other's trees.
   forEachBand([&](int p) { joinBand(field, box, bands[p], outside); });
@@ -269,9 +360,10 @@ MotionRemovalCounts MotionRemover::classify(
     root_[r] = find(r);
     counts.components += root_[r] == r;
   }
-  classes.assign(cells, CellClass::kUnknown);
+  classes.resize(cells);
   std::vector<MotionRemovalCounts> band_counts(parts);
   forEachBand([&](int p) { classifyBand(field, box, bands[p], classes, band_counts[p]); });
+  rememberResult(field, box, classes);
   for (const MotionRemovalCounts& c : band_counts) {
     counts.static_cells += c.static_cells;
     counts.glass_cells += c.glass_cells;

@@ -1,6 +1,7 @@
 #include "reflectance_field_map/core/reflectance_field.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <istream>
 #include <ostream>
@@ -41,7 +42,15 @@ ReflectanceField::ReflectanceField(const GridOptions& grid, const LogOddsOptions
       missed_bins_(plane_, 0),
       hit_since_tick_(plane_, 0),
       reflective_bins_(plane_, 0),
-      confirmed_ticks_(plane_, 0) {}
+      confirmed_ticks_(plane_, 0),
+      tile_slot_shift_(window_.tileSlotShift()),
+      tile_reflective_cells_(window_.storageTiles(), 0),
+      tile_versions_(window_.storageTiles(), 0) {}
+
+ReflectanceField::Identity::Identity() {
+  static std::atomic<uint64_t> next{1};
+  value = next++;
+}
 
 WindowShift ReflectanceField::recenter(const Eigen::Vector2d& robot_position,
                                        ParallelRunner* runner) {
@@ -127,7 +136,9 @@ double ReflectanceField::marginalOddsAt(int storage_index) const {
 size_t ReflectanceField::activeBytes() const {
   return bins_.size() * sizeof(int8_t) + reflective_masks_.size() * sizeof(uint64_t) +
          missed_bins_.size() * sizeof(uint16_t) + hit_since_tick_.size() +
-         reflective_bins_.size() * sizeof(uint16_t) + confirmed_ticks_.size() + historyBytes();
+         reflective_bins_.size() * sizeof(uint16_t) + confirmed_ticks_.size() +
+         tile_reflective_cells_.size() * sizeof(int) + tile_versions_.size() * sizeof(uint32_t) +
+         historyBytes();
 }
 
 size_t ReflectanceField::historyBytes() const {
@@ -160,6 +171,9 @@ void ReflectanceField::clear() {
   std::fill(hit_since_tick_.begin(), hit_since_tick_.end(), 0);
   std::fill(reflective_bins_.begin(), reflective_bins_.end(), 0);
   std::fill(confirmed_ticks_.begin(), confirmed_ticks_.end(), 0);
+  std::fill(tile_reflective_cells_.begin(), tile_reflective_cells_.end(), 0);
+  for (uint32_t& version : tile_versions_)
+    ++version;
   archive_.clear();
   centred_ = false;
 }
@@ -193,6 +207,9 @@ void ReflectanceField::clearTileStorage(const TileIndex& tile) {
   std::fill_n(&reflective_bins_[first], cells, 0);
   std::fill_n(&confirmed_ticks_[first], cells, 0);
   std::fill_n(&reflective_masks_[first * mask_words_], cells * mask_words_, 0);
+  const int storage_tile = static_cast<int>(first >> tile_slot_shift_);
+  tile_reflective_cells_[storage_tile] = 0;
+  ++tile_versions_[storage_tile];
 }
 
 void ReflectanceField::rebuildSummaries(const TileIndex& tile) {
@@ -213,7 +230,10 @@ void ReflectanceField::rebuildCellSummary(int storage_index) {
     missed += v < 0;
   }
   missed_bins_[storage_index] = missed;
+  const int tile = storage_index >> tile_slot_shift_;
+  tile_reflective_cells_[tile] += (reflective != 0) - (reflective_bins_[storage_index] != 0);
   reflective_bins_[storage_index] = reflective;
+  ++tile_versions_[tile];
 }
 
 void ReflectanceField::tickPersistence(int remembered_min_bins) {

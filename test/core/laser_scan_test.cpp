@@ -1,9 +1,13 @@
 #include "reflectance_field_map/core/laser_scan.h"
 
+#include "reflectance_field_map/core/ray_insertion.h"
+
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <random>
 
 namespace rfm {
 namespace {
@@ -55,6 +59,51 @@ TEST(ScanToRays, ClearingDistanceNeverExceedsRangeMax) {
   std::vector<Ray> rays;
   scanToRays(scan, Pose2D(), options, rays);
   EXPECT_NEAR((rays[0].end - rays[0].origin).norm(), 2.0, 1e-6);
+}
+
+// Every beam whose ray crosses the box lies in one of the ranges (online reflection removal
+// looks only at those), and the ranges are far narrower than the scan for a small, far box.
+TEST(BeamsTowardsBox, HoldEveryBeamCrossingTheBox) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> coordinate(-3.0, 3.0), angle(-10.0, 10.0);
+  std::uniform_int_distribution<int> cell(-60, 60), size(1, 30);
+  constexpr double kResolution = 0.05;
+  const InsertionOptions insertion;
+  std::vector<Ray> rays;
+  std::vector<BeamRange> ranges;
+  size_t narrow = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const CellIndex min(cell(rng), cell(rng));
+    const CellBox box{min, min + CellIndex(size(rng), size(rng))};
+    LaserScan2D scan;
+    const bool full_turn = trial % 3 == 0;  // 1440 beams of 0.25 deg plus some: over a turn
+    const int beams = full_turn ? 1450 : 1081;
+    scan.angle_increment = static_cast<float>(0.25 * M_PI / 180.0);
+    scan.angle_min = static_cast<float>(-0.75 * M_PI);
+    scan.angle_max = scan.angle_min + (beams - 1) * scan.angle_increment;
+    scan.range_min = 0.1f;
+    scan.range_max = 30.0f;
+    scan.ranges.assign(beams, 8.0f);
+    const Pose2D sensor{{coordinate(rng), coordinate(rng)}, angle(rng)};
+    scanToRays(scan, sensor, insertion, rays);
+    beamsTowardsBox(box, kResolution, sensor.position, sensor.yaw + scan.angle_min,
+                    scan.angle_increment, ranges);
+    ASSERT_LE(ranges.size(), 3u);
+    size_t listed = 0;
+    for (const BeamRange& range : ranges)
+      listed += std::min<size_t>(range.last, beams - 1) + 1 - std::min<size_t>(range.first, beams);
+    narrow += listed < 200;
+    for (const Ray& ray : rays) {
+      Ray clipped = ray;
+      if (!clipRayToBox(box, kResolution, clipped)) continue;
+      const bool listed_beam =
+          std::any_of(ranges.begin(), ranges.end(), [&](const BeamRange& range) {
+            return ray.beam >= range.first && ray.beam <= range.last;
+          });
+      ASSERT_TRUE(listed_beam) << "trial " << trial << " beam " << ray.beam;
+    }
+  }
+  EXPECT_GT(narrow, 150u);
 }
 
 TEST(LaserScanValidate, RejectsMalformedScans) {

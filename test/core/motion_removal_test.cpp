@@ -1,5 +1,7 @@
 #include "reflectance_field_map/core/motion_removal.h"
 
+#include "reflectance_field_map/core/mapper.h"
+
 #include "scenario.h"
 
 #include "test_fields.h"
@@ -198,6 +200,54 @@ TEST(MotionRemover, ThreadsGiveTheClassesOfOneThread) {
   }
   EXPECT_GE(a.glass_cells, static_cast<size_t>(box.height() - 1));  // the anchored stroke
   EXPECT_GT(a.motion_cells, static_cast<size_t>(box.height()));     // the others
+}
+
+// Reusing unchanged tiles gives exactly what classifying afresh gives, while the robot drives
+// (the window scrolls), people walk and persistence ticks pass; the reuse does happen.
+TEST(MotionRemover, ReusingUnchangedTilesGivesTheFreshResult) {
+  SyntheticWorld world;
+  world.addWall({-3.0, 2.5}, {9.0, 2.5});
+  world.addFramedPane({2.0, -2.0}, {6.0, -2.0});
+  world.addWall({-3.0, -3.5}, {9.0, -3.5});
+  MapperOptions options;
+  options.active_region.active_region_radius = 3.0;
+  options.motion_removal.motion_removal_enabled = false;  // the removers under test run here
+  Mapper mapper(options);
+  const OccupancyRule rule(options.occupancy, mapper.field().geometry().binWidth());
+  MotionRemover incremental(rule, 4, 10, 3);
+  ParallelRunner runner(2);
+  auto outside = [&](const CellIndex& cell) { return mapper.map().get(cell); };
+  std::vector<CellClass> reused, fresh;
+  size_t runs_with_reuse = 0;
+  for (int i = 0; i < 480; ++i) {
+    const double t = 0.025 * i;
+    world.people = {Disc{{-1.0 + 0.9 * t, 1.0}, 0.25}, Disc{{5.0, -0.5}, 0.25}};
+    if (t > 8.0) world.people.pop_back();  // the one standing still leaves
+    mapper.addScan(world.timedScan({{0.6 * t, 0.0}, 0.0}, t));
+    if ((i + 1) % 20 != 0) continue;
+    const CellBox box = mapper.field().activeBox();
+    const MotionRemovalCounts a = incremental.classify(mapper.field(), box, outside, reused,
+                                                       i % 40 == 19 ? &runner : nullptr);
+    const MotionRemovalCounts b =
+        MotionRemover(rule, 4, 10, 3).classify(mapper.field(), box, outside, fresh);
+    ASSERT_EQ(reused, fresh) << "after scan " << i;
+    ASSERT_EQ(a.free_cells, b.free_cells);
+    ASSERT_EQ(a.motion_cells, b.motion_cells);
+    ASSERT_EQ(a.glass_cells, b.glass_cells);
+    ASSERT_EQ(a.static_cells, b.static_cells);
+    bool any_reused = false;
+    for (int y = box.min.y(); y < box.max.y(); y += 16)
+      for (int x = box.min.x(); x < box.max.x(); x += 16)
+        any_reused |= incremental.reusedTile({x, y});
+    runs_with_reuse += any_reused;
+  }
+  EXPECT_GE(runs_with_reuse, 20u);  // of 24 runs: all but the first few
+  // Sub-boxes and a different field are classified afresh.
+  const CellBox inner{mapper.field().activeBox().min + CellIndex(5, 7),
+                      mapper.field().activeBox().max - CellIndex(9, 3)};
+  incremental.classify(mapper.field(), inner, outside, reused);
+  MotionRemover(rule, 4, 10, 3).classify(mapper.field(), inner, outside, fresh);
+  EXPECT_EQ(reused, fresh);
 }
 
 // Fig. 2: a freestanding pane with frames passed by the robot: the frames are widely visible,

@@ -151,6 +151,68 @@ TEST(ReflectanceField, LeaveAndReturnRestoresEvidenceBitForBit) {
   EXPECT_EQ(field.archivedTiles(), 0u);  // restored tiles leave the archive
 }
 
+// Motion removal trusts the per-tile counts and versions to skip and reuse tiles: the counts
+// must match the cells through updates, reverts and scrolling, and every change to a cell's
+// summaries must change its tile's version.
+TEST(ReflectanceField, TileCountsAndVersionsFollowTheSummaries) {
+  ReflectanceField field = makeField(3.0);
+  const RollingWindow& window = field.window();
+  auto check_counts = [&] {
+    for (const TileIndex& tile : window.tiles()) {
+      const int first = window.tileFirstSlot(tile);
+      const int cells = window.tileCells() * window.tileCells();
+      int reflective = 0;
+      for (int slot = first; slot < first + cells; ++slot)
+        reflective += field.anyReflectiveAt(slot);
+      ASSERT_EQ(field.tileReflectiveCells(first >> window.tileSlotShift()), reflective)
+          << tile.transpose();
+    }
+  };
+  std::mt19937 rng(3);
+  std::uniform_int_distribution<int> bin(0, 35);
+  for (const Eigen::Vector2d& robot :
+       {Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d(0.9, 0.0), Eigen::Vector2d(0.9, -1.7),
+        Eigen::Vector2d(40.0, 0.0), Eigen::Vector2d(0.0, 0.0)}) {
+    field.recenter(robot);
+    check_counts();
+    const CellBox box = field.activeBox();
+    std::uniform_int_distribution<int> x(box.min.x(), box.max.x() - 1),
+        y(box.min.y(), box.max.y() - 1);
+    for (int i = 0; i < 20000; ++i) {
+      const CellIndex cell(x(rng), y(rng));
+      const int slot = window.storageIndex(cell);
+      const int tile = slot >> window.tileSlotShift();
+      const int reflective = field.reflectiveBinsAt(slot), missed = field.missedBinsAt(slot);
+      const uint32_t version = field.tileVersion(tile);
+      switch (rng() % 4) {
+        case 0:
+          field.applyHit(cell, bin(rng));
+          break;
+        case 1:
+          field.revertHitAt(slot, bin(rng));
+          break;
+        default:
+          field.applyMiss(cell, bin(rng));
+      }
+      const bool changed =
+          field.reflectiveBinsAt(slot) != reflective || field.missedBinsAt(slot) != missed;
+      if (changed) {
+        ASSERT_NE(field.tileVersion(tile), version);
+      }
+    }
+    check_counts();
+  }
+  // Clearing changes every version.
+  std::vector<uint32_t> versions;
+  for (int t = 0; t < window.storageTiles(); ++t)
+    versions.push_back(field.tileVersion(t));
+  field.clear();
+  for (int t = 0; t < window.storageTiles(); ++t) {
+    EXPECT_NE(field.tileVersion(t), versions[t]);
+    EXPECT_EQ(field.tileReflectiveCells(t), 0);
+  }
+}
+
 TEST(ReflectanceField, SaveAndReadRoundTrip) {
   ReflectanceField field = makeField();
   field.recenter({1.0, 1.0});

@@ -20,6 +20,11 @@ inline bool isObstacle(CellClass c) {
          c == CellClass::kOccupied;
 }
 
+// Free or unknown: nothing a ray could stop at.
+inline bool isEmptySpace(CellClass c) {
+  return c == CellClass::kFree || c == CellClass::kUnknown;
+}
+
 // nav_msgs/OccupancyGrid value: -1 unknown, 0 free, 100 occupied; motion counts as free.
 inline int8_t occupancyValue(CellClass c) {
   if (c == CellClass::kUnknown) return -1;

@@ -50,4 +50,16 @@ BeamReading classifyBeam(float range, float range_min, float range_max);
 void scanToRays(const LaserScan2D& scan, const Pose2D& sensor_pose, const InsertionOptions& options,
                 std::vector<Ray>& rays);
 
+// Beam indices first..last, both included.
+struct BeamRange {
+  uint32_t first, last;
+};
+// The beams of a scan taken from `origin` (beam k heading first_beam_angle + k * increment,
+// increment > 0) whose rays may cross `box`: those within the box's angular extent seen from
+// there, with a margin of two beams. At most two ranges (the extent may straddle beam 0's
+// direction); one holding every beam when the origin lies within a cell of the box. Written to
+// `ranges` (cleared first); indices past the scan's last beam simply match nothing.
+void beamsTowardsBox(const CellBox& box, double resolution, const Eigen::Vector2d& origin,
+                     double first_beam_angle, double increment, std::vector<BeamRange>& ranges);
+
 }  // namespace rfm

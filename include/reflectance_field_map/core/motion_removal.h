@@ -46,11 +46,25 @@ class MotionRemover {
   // (row-major, x fastest). `outside` gives the known class of cells just outside the box and
   // must be safe to call from several threads. With a `runner`, bands of rows are processed
   // on its threads: components are joined within each band, then across band borders.
+  // Only tiles holding reflective cells take part in components; the other tiles' cells are
+  // free or unknown, and those whose field tile did not change since the previous call on the
+  // same field are copied from it (ReflectanceField::tileVersion), not recomputed.
   MotionRemovalCounts classify(const ReflectanceField& field, const CellBox& box,
                                const std::function<CellClass(const CellIndex&)>& outside,
                                std::vector<CellClass>& classes, ParallelRunner* runner = nullptr);
 
+  // After classify: true when the tile holding `cell` (inside the box) was copied from the
+  // previous call: its classes, all free or unknown, did not change.
+  bool reusedTile(const CellIndex& cell) const {
+    return tile_work_[boxTileOf(cell.x(), cell.y())] == TileWork::kReuse;
+  }
+
  private:
+  enum class TileWork : uint8_t {
+    kComponents,  // holds reflective cells
+    kFreeSpace,   // no reflective cell: free or unknown by its missed bins
+    kReuse,       // no reflective cell and unchanged: classes copied from the previous call
+  };
   struct Run {
     int16_t first_bin;
     int16_t length;  // may wrap past the last bin
@@ -72,6 +86,13 @@ class MotionRemover {
   uint32_t find(uint32_t node);
   void unite(uint32_t a, uint32_t b);
   bool widelyVisible(const ReflectanceField& field, int slot, int reflective_bins) const;
+  void planTiles(const ReflectanceField& field, const CellBox& box);
+  void rememberResult(const ReflectanceField& field, const CellBox& box,
+                      const std::vector<CellClass>& classes);
+  size_t boxTileOf(int x, int y) const {
+    return static_cast<size_t>(floorDiv(y, tile_cells_) - first_tile_.y()) * box_tiles_x_ +
+           (floorDiv(x, tile_cells_) - first_tile_.x());
+  }
 
   OccupancyRule rule_;
   int persistence_ticks_;
@@ -92,6 +113,17 @@ class MotionRemover {
   std::vector<Extent> extent_;           // per root: bounding box of its cells
   std::vector<uint32_t> root_;           // final root of each run
   std::vector<uint8_t> widely_visible_;  // per box cell
+
+  // The box's tiles (of the field's window) and what classify does with each.
+  int tile_cells_ = 1;
+  TileIndex first_tile_{0, 0};
+  int box_tiles_x_ = 0;
+  std::vector<TileWork> tile_work_;
+  // The previous call's result, for tiles that did not change since.
+  uint64_t previous_field_ = 0;  // ReflectanceField::identity(), 0: none
+  CellBox previous_box_;
+  std::vector<CellClass> previous_classes_;
+  std::vector<uint32_t> previous_versions_;  // per storage tile, of tiles inside previous_box_
 };
 
 // True when circular bin intervals [a, a + a_len) and [b, b + b_len) share a bin.

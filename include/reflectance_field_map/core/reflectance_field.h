@@ -180,6 +180,14 @@ class ReflectanceField {
   // from a direction it reflected in.
   int contradictedBinsAt(int storage_index) const;
 
+  // Per storage tile (window().tileSlotShift()): how many cells have a reflective bin, and a
+  // version that changes whenever a cell summary of the tile (mask, reflective or missed count)
+  // changes or the tile is cleared. Motion removal reuses what it found for tiles that did not
+  // change since its last run. `identity()` tells fields apart (no two share one).
+  int tileReflectiveCells(int storage_tile) const { return tile_reflective_cells_[storage_tile]; }
+  uint32_t tileVersion(int storage_tile) const { return tile_versions_[storage_tile]; }
+  uint64_t identity() const { return identity_.value; }
+
   // eq. 7: sum over theta of the odds of reflectance times the bin width (rad).
   double marginalOdds(const CellIndex& cell) const;
 
@@ -199,14 +207,20 @@ class ReflectanceField {
 
  private:
   void applySummaryChange(int storage_index, int bin, int reflective, int missed) {
+    if ((reflective | missed) == 0) return;
+    const int tile = storage_index >> tile_slot_shift_;
     if (reflective != 0) {
       uint64_t& word =
           reflective_masks_[static_cast<size_t>(storage_index) * mask_words_ + (bin >> 6)];
       const uint64_t bit = uint64_t{1} << (bin & 63);
       word = reflective > 0 ? (word | bit) : (word & ~bit);
-      reflective_bins_[storage_index] += reflective;
+      uint16_t& count = reflective_bins_[storage_index];
+      const bool was_reflective = count != 0;
+      count = static_cast<uint16_t>(count + reflective);
+      tile_reflective_cells_[tile] += (count != 0) - was_reflective;
     }
     missed_bins_[storage_index] += missed;
+    ++tile_versions_[tile];
   }
   void revertAt(int storage_index, int bin, int step);
   void archiveTiles(const std::vector<TileIndex>& tiles, ParallelRunner* runner);
@@ -230,6 +244,20 @@ class ReflectanceField {
   std::vector<uint8_t> hit_since_tick_;     // [y][x]
   std::vector<uint16_t> reflective_bins_;   // [y][x]
   std::vector<uint8_t> confirmed_ticks_;    // [y][x]
+  int tile_slot_shift_;
+  std::vector<int> tile_reflective_cells_;  // per storage tile
+  std::vector<uint32_t> tile_versions_;     // per storage tile
+  // A new number for every field object, copies and assignments included.
+  struct Identity {
+    Identity();
+    Identity(const Identity&) : Identity() {}
+    Identity& operator=(const Identity&) {
+      value = Identity().value;
+      return *this;
+    }
+    uint64_t value;
+  };
+  Identity identity_;
   // Sparse (only cells that could be widely visible): bins reflective at some tick.
   std::unordered_map<int, std::vector<uint64_t>> reflective_history_;  // by storage index
   TileArchive archive_;

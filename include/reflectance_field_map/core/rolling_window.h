@@ -2,6 +2,7 @@
 
 #include "reflectance_field_map/core/grid_geometry.h"
 
+#include <algorithm>
 #include <vector>
 
 namespace rfm {
@@ -72,6 +73,24 @@ class RollingWindow {
       }
     }
   }
+
+  // Calls visit(y, x_begin, x_end, first_slot) for each piece of a row of `box` (inside the
+  // window) that lies in one tile: its cells occupy the consecutive slots
+  // [first_slot, first_slot + x_end - x_begin), and first_slot >> tileSlotShift() is the tile.
+  template <typename Visit>
+  void forEachTileSpan(const CellBox& box, Visit&& visit) const {
+    for (int y = box.min.y(); y < box.max.y(); ++y) {
+      const int sy = storageCoordinate(y);
+      for (int x = box.min.x(); x < box.max.x();) {
+        const int x_end = std::min(box.max.x(), (floorDiv(x, tile_cells_) + 1) * tile_cells_);
+        visit(y, x, x_end, storageSlot(storageCoordinate(x), sy));
+        x = x_end;
+      }
+    }
+  }
+  // Storage tile of a slot: slot >> tileSlotShift() (tiles are contiguous blocks of slots).
+  int tileSlotShift() const { return 2 * tile_shift_; }
+  int storageTiles() const { return tiles_per_side_ * tiles_per_side_; }
 
   void setOrigin(const TileIndex& origin_tile) { origin_tile_ = origin_tile; }
 
