@@ -25,8 +25,18 @@ void appendRuns(const uint64_t* mask, int bins, std::vector<Run>& runs) {
     bin += __builtin_ctzll(word);
     if (bin >= bins) break;
     const int start = bin;
-    while (bin < bins && ((mask[bin >> 6] >> (bin & 63)) & 1u))
-      ++bin;
+    // Whole words of set bits at a time (bits past the last bin are never set).
+    for (;;) {
+      const int shift = bin & 63;
+      const uint64_t rest = ~(mask[bin >> 6] >> shift);  // the shift brings in ones here
+      const int ones = rest == 0 ? 64 : __builtin_ctzll(rest);
+      if (ones < 64 - shift) {
+        bin += ones;
+        break;
+      }
+      bin += 64 - shift;
+      if (bin >= bins) break;
+    }
     runs.push_back({static_cast<int16_t>(start), static_cast<int16_t>(bin - start)});
   }
   // A run ending at the last bin continues into the one starting at bin 0.
@@ -143,7 +153,20 @@ bool MotionRemover::widelyVisible(const ReflectanceField& field, int slot,
                                   int reflective_bins) const {
   // Too few reflective bins cannot reach beta: the exact sum reads every bin.
   if (reflective_bins < min_widely_visible_bins_) return false;
-  return field.marginalOddsAt(slot) > rule_.options().beta;
+  // Bounds from the reflective bins alone: unobserved bins add odds 1, missed bins between the
+  // clamp's odds and those of one step below the prior. The exact sum when they do not decide.
+  const LogOddsModel& model = field.logOdds();
+  const int missed = field.missedBinsAt(slot);
+  const int unobserved = field.geometry().thetaBins() - reflective_bins - missed;
+  const double known = field.reflectiveOddsAt(slot) + unobserved;
+  const double bin_width = field.geometry().binWidth();
+  const double beta = rule_.options().beta;
+  const double lowest =
+      (known + missed * model.odds(static_cast<int8_t>(model.minValue()))) * bin_width;
+  const double highest = (known + missed * model.odds(int8_t{-1})) * bin_width;
+  if (lowest > beta * (1.0 + 1e-9)) return true;
+  if (highest < beta * (1.0 - 1e-9)) return false;
+  return field.marginalOddsAt(slot) > beta;
 }
 
 void MotionRemover::uniteNeighbour(size_t local, size_t n_local, int bins) {

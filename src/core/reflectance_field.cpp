@@ -133,6 +133,18 @@ double ReflectanceField::marginalOddsAt(int storage_index) const {
   return sum * geometry_.binWidth();
 }
 
+double ReflectanceField::reflectiveOddsAt(int storage_index) const {
+  const uint64_t* mask = reflectiveMaskAt(storage_index);
+  double sum = 0.0;
+  for (int w = 0; w < mask_words_; ++w) {
+    for (uint64_t bits = mask[w]; bits != 0; bits &= bits - 1) {
+      const int bin = 64 * w + __builtin_ctzll(bits);
+      sum += log_odds_.odds(bins_[bin * plane_ + storage_index]);
+    }
+  }
+  return sum;
+}
+
 size_t ReflectanceField::activeBytes() const {
   return bins_.size() * sizeof(int8_t) + reflective_masks_.size() * sizeof(uint64_t) +
          missed_bins_.size() * sizeof(uint16_t) + hit_since_tick_.size() +

@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 namespace rfm {
 namespace {
 
@@ -64,6 +66,38 @@ TEST(MotionRemover, TwentySixConnectivityIncludingThetaWrap) {
   // Two cells apart in space: not connected either.
   f.hit({6, 2}, 177);
   EXPECT_EQ(f.classify({6, 2}), CellClass::kMotion);
+}
+
+// Eq. 7 decides which cells are static, however the remover bounds the sum: cells with random
+// evidence around beta are static exactly when their marginal odds exceed it.
+TEST(MotionRemover, WidelyVisibleCellsAreThoseOfEquationSeven) {
+  DirectField f;
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> bin(0, 179), reflective(20, 70), missed(0, 150), hits(2, 5),
+      misses(1, 8);
+  std::vector<CellIndex> cells;
+  for (int i = 0; i < 200; ++i) {
+    const CellIndex cell(-30 + 3 * (i % 20), -30 + 3 * (i / 20));
+    for (int k = reflective(rng); k > 0; --k)
+      f.hit(cell, bin(rng), hits(rng));
+    for (int k = missed(rng); k > 0; --k) {
+      const int b = bin(rng);
+      for (int m = misses(rng); m > 0; --m)
+        f.field.applyMiss(cell, b);
+    }
+    cells.push_back(cell);
+  }
+  size_t static_cells = 0, other = 0;
+  const double beta = OccupancyOptions().beta;
+  for (const CellIndex& cell : cells) {
+    const CellClass c = f.classify(cell);
+    if (isEmptySpace(c)) continue;  // static when widely visible, else motion (alone)
+    const bool widely_visible = f.field.marginalOdds(cell) > beta;
+    EXPECT_EQ(c == CellClass::kStatic, widely_visible) << f.field.marginalOdds(cell);
+    ++(widely_visible ? static_cells : other);
+  }
+  EXPECT_GT(static_cells, 20u);  // both sides of beta are exercised
+  EXPECT_GT(other, 20u);
 }
 
 TEST(MotionRemover, ASecondRunInTheSameCellIsJudgedOnItsOwn) {

@@ -118,18 +118,21 @@ TEST(ReflectanceField, SummariesMatchBinsAfterRandomUpdates) {
   for (int cy = -7; cy < 8; ++cy) {
     for (int cx = -7; cx < 8; ++cx) {
       int reflective = 0, missed = 0;
-      double marginal = 0.0;
+      double marginal = 0.0, reflective_odds = 0.0;
       for (int b = 0; b < 180; ++b) {
         const int8_t v = field.value({cx, cy}, b);
         reflective += v > 0;
         missed += v < 0;
         marginal += std::exp(LogOddsModel::toLogOdds(v)) * field.geometry().binWidth();
+        if (v > 0) reflective_odds += std::exp(LogOddsModel::toLogOdds(v));
         ASSERT_EQ(field.isReflective({cx, cy}, b), v > 0);
       }
       ASSERT_EQ(field.reflectiveBins({cx, cy}), reflective);
       ASSERT_EQ(field.anyReflectiveAt(field.window().storageIndex({cx, cy})), reflective > 0);
       ASSERT_EQ(field.missedBins({cx, cy}), missed);
       ASSERT_NEAR(field.marginalOdds({cx, cy}), marginal, 1e-3 * marginal);
+      const int slot = field.window().storageIndex({cx, cy});
+      ASSERT_NEAR(field.reflectiveOddsAt(slot), reflective_odds, 1e-3 * reflective_odds + 1e-9);
     }
   }
 }

@@ -156,6 +156,8 @@ class ReflectanceField {
   int missedBinsAt(int storage_index) const { return missed_bins_[storage_index]; }
   int confirmedTicksAt(int storage_index) const { return confirmed_ticks_[storage_index]; }
   double marginalOddsAt(int storage_index) const;
+  // The part of marginalOddsAt's sum (without the bin width) from the reflective bins alone.
+  double reflectiveOddsAt(int storage_index) const;
   int reflectiveBins(const CellIndex& cell) const;
   int missedBins(const CellIndex& cell) const { return missed_bins_[window_.storageIndex(cell)]; }
   bool isReflectiveAt(int storage_index, int bin) const {
