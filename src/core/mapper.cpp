@@ -285,9 +285,13 @@ void Mapper::revertEvidenceBehindGlass(const CellBox& new_glass) {
         if (truncateAtGlass(ray)) truncated.emplace_back(it - buffered.rays.begin(), ray);
       }
     }
+    if (truncated.empty()) continue;
+    // In beam order, and each ray once whatever the ranges.
     std::sort(truncated.begin(), truncated.end(),
               [](const auto& a, const auto& b) { return a.first < b.first; });
-    if (truncated.empty()) continue;
+    truncated.erase(std::unique(truncated.begin(), truncated.end(),
+                                [](const auto& a, const auto& b) { return a.first == b.first; }),
+                    truncated.end());
     std::fill(bin_changed.begin(), bin_changed.end(), 0);
     for (const auto& changed : truncated)
       bin_changed[geometry.binOf(changed.second.angle)] = 1;

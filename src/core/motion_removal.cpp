@@ -28,7 +28,7 @@ void appendRuns(const uint64_t* mask, int bins, std::vector<Run>& runs) {
     // Whole words of set bits at a time (bits past the last bin are never set).
     for (;;) {
       const int shift = bin & 63;
-      const uint64_t rest = ~(mask[bin >> 6] >> shift);  // the shift brings in ones here
+      const uint64_t rest = ~(mask[bin >> 6] >> shift);  // shifted-in zeros become ones
       const int ones = rest == 0 ? 64 : __builtin_ctzll(rest);
       if (ones < 64 - shift) {
         bin += ones;
