@@ -285,13 +285,7 @@ void Mapper::revertEvidenceBehindGlass(const CellBox& new_glass) {
         if (truncateAtGlass(ray)) truncated.emplace_back(it - buffered.rays.begin(), ray);
       }
     }
-    if (truncated.empty()) continue;
-    // In beam order, and each ray once whatever the ranges.
-    std::sort(truncated.begin(), truncated.end(),
-              [](const auto& a, const auto& b) { return a.first < b.first; });
-    truncated.erase(std::unique(truncated.begin(), truncated.end(),
-                                [](const auto& a, const auto& b) { return a.first == b.first; }),
-                    truncated.end());
+    if (truncated.empty()) continue;  // in beam order: the ranges ascend and are disjoint
     std::fill(bin_changed.begin(), bin_changed.end(), 0);
     for (const auto& changed : truncated)
       bin_changed[geometry.binOf(changed.second.angle)] = 1;

@@ -47,11 +47,6 @@ void appendRuns(const uint64_t* mask, int bins, std::vector<Run>& runs) {
   }
 }
 
-bool boxContains(const CellBox& outer, const CellBox& inner) {
-  return inner.min.x() >= outer.min.x() && inner.min.y() >= outer.min.y() &&
-         inner.max.x() <= outer.max.x() && inner.max.y() <= outer.max.y();
-}
-
 CellBox bandBox(const CellBox& box, int first_row, int end_row) {
   return {{box.min.x(), box.min.y() + first_row}, {box.max.x(), box.min.y() + end_row}};
 }
@@ -67,33 +62,20 @@ void MotionRemover::planTiles(const ReflectanceField& field, const CellBox& box)
   tile_work_.assign(static_cast<size_t>(box_tiles_x_) * (last.y() - first_tile_.y() + 1),
                     TileWork::kComponents);
   const bool same_field = previous_field_ == field.identity();
+  previous_versions_.resize(window.storageTiles());
   size_t i = 0;
   for (int ty = first_tile_.y(); ty <= last.y(); ++ty) {
     for (int tx = first_tile_.x(); tx <= last.x(); ++tx, ++i) {
       const TileIndex tile(tx, ty);
-      const int storage_tile = window.tileFirstSlot(tile) >> window.tileSlotShift();
+      const int storage_tile = window.storageTile(tile);
+      // classify does not change the field: the version now is the one its result reflects.
+      const uint32_t version = field.tileVersion(storage_tile);
+      const bool unchanged = same_field && previous_versions_[storage_tile] == version;
+      previous_versions_[storage_tile] = version;
       if (field.tileReflectiveCells(storage_tile) > 0) continue;
       const CellBox tile_box = window.tileBox(tile);
-      const bool unchanged = same_field && boxContains(box, tile_box) &&
-                             boxContains(previous_box_, tile_box) &&
-                             previous_versions_[storage_tile] == field.tileVersion(storage_tile);
-      tile_work_[i] = unchanged ? TileWork::kReuse : TileWork::kFreeSpace;
-    }
-  }
-}
-
-void MotionRemover::rememberResult(const ReflectanceField& field, const CellBox& box,
-                                   const std::vector<CellClass>& classes) {
-  const RollingWindow& window = field.window();
-  previous_field_ = field.identity();
-  previous_box_ = box;
-  previous_classes_ = classes;
-  previous_versions_.resize(window.storageTiles());
-  const TileIndex last = window.tileOf(box.max - CellIndex(1, 1));
-  for (int ty = first_tile_.y(); ty <= last.y(); ++ty) {
-    for (int tx = first_tile_.x(); tx <= last.x(); ++tx) {
-      const int storage_tile = window.tileFirstSlot({tx, ty}) >> window.tileSlotShift();
-      previous_versions_[storage_tile] = field.tileVersion(storage_tile);
+      const bool reuse = unchanged && box.contains(tile_box) && previous_box_.contains(tile_box);
+      tile_work_[i] = reuse ? TileWork::kReuse : TileWork::kFreeSpace;
     }
   }
 }
@@ -386,7 +368,9 @@ MotionRemovalCounts MotionRemover::classify(
   classes.resize(cells);
   std::vector<MotionRemovalCounts> band_counts(parts);
   forEachBand([&](int p) { classifyBand(field, box, bands[p], classes, band_counts[p]); });
-  rememberResult(field, box, classes);
+  previous_field_ = field.identity();
+  previous_box_ = box;
+  previous_classes_ = classes;
   for (const MotionRemovalCounts& c : band_counts) {
     counts.static_cells += c.static_cells;
     counts.glass_cells += c.glass_cells;

@@ -43,7 +43,6 @@ ReflectanceField::ReflectanceField(const GridOptions& grid, const LogOddsOptions
       hit_since_tick_(plane_, 0),
       reflective_bins_(plane_, 0),
       confirmed_ticks_(plane_, 0),
-      tile_slot_shift_(window_.tileSlotShift()),
       tile_reflective_cells_(window_.storageTiles(), 0),
       tile_versions_(window_.storageTiles(), 0) {}
 
@@ -219,7 +218,7 @@ void ReflectanceField::clearTileStorage(const TileIndex& tile) {
   std::fill_n(&reflective_bins_[first], cells, 0);
   std::fill_n(&confirmed_ticks_[first], cells, 0);
   std::fill_n(&reflective_masks_[first * mask_words_], cells * mask_words_, 0);
-  const int storage_tile = static_cast<int>(first >> tile_slot_shift_);
+  const int storage_tile = window_.storageTile(tile);
   tile_reflective_cells_[storage_tile] = 0;
   ++tile_versions_[storage_tile];
 }
@@ -242,7 +241,7 @@ void ReflectanceField::rebuildCellSummary(int storage_index) {
     missed += v < 0;
   }
   missed_bins_[storage_index] = missed;
-  const int tile = storage_index >> tile_slot_shift_;
+  const int tile = storage_index >> window_.tileSlotShift();
   tile_reflective_cells_[tile] += (reflective != 0) - (reflective_bins_[storage_index] != 0);
   reflective_bins_[storage_index] = reflective;
   ++tile_versions_[tile];

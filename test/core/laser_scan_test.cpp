@@ -89,6 +89,8 @@ TEST(BeamsTowardsBox, HoldEveryBeamCrossingTheBox) {
     beamsTowardsBox(box, kResolution, sensor.position, sensor.yaw + scan.angle_min,
                     scan.angle_increment, ranges);
     ASSERT_LE(ranges.size(), 3u);
+    for (size_t k = 1; k < ranges.size(); ++k)
+      ASSERT_GT(ranges[k].first, ranges[k - 1].last) << "ranges ascend and are disjoint";
     size_t listed = 0;
     for (const BeamRange& range : ranges)
       listed += std::min<size_t>(range.last, beams - 1) + 1 - std::min<size_t>(range.first, beams);

@@ -164,7 +164,7 @@ TEST(ReflectanceField, TileCountsAndVersionsFollowTheSummaries) {
       int reflective = 0;
       for (int slot = first; slot < first + cells; ++slot)
         reflective += field.anyReflectiveAt(slot);
-      ASSERT_EQ(field.tileReflectiveCells(first >> window.tileSlotShift()), reflective)
+      ASSERT_EQ(field.tileReflectiveCells(window.storageTile(tile)), reflective)
           << tile.transpose();
     }
   };

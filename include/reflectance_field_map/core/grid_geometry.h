@@ -90,6 +90,10 @@ struct CellBox {
   bool contains(const CellIndex& cell) const {
     return cell.x() >= min.x() && cell.y() >= min.y() && cell.x() < max.x() && cell.y() < max.y();
   }
+  bool contains(const CellBox& other) const {
+    return other.min.x() >= min.x() && other.min.y() >= min.y() && other.max.x() <= max.x() &&
+           other.max.y() <= max.y();
+  }
   bool empty() const { return max.x() <= min.x() || max.y() <= min.y(); }
   int width() const { return max.x() - min.x(); }
   int height() const { return max.y() - min.y(); }

@@ -56,9 +56,10 @@ struct BeamRange {
 };
 // The beams of a scan taken from `origin` (beam k heading first_beam_angle + k * increment,
 // increment > 0) whose rays may cross `box`: those within the box's angular extent seen from
-// there, with a margin of two beams. At most two ranges (the extent may straddle beam 0's
-// direction); one holding every beam when the origin lies within a cell of the box. Written to
-// `ranges` (cleared first); indices past the scan's last beam simply match nothing.
+// there, with a margin of two beams: ascending and disjoint (the extent may straddle beam 0's
+// direction, and a scan may span over a turn), or one range holding every beam when the origin
+// lies within a cell of the box. Written to `ranges` (cleared first); indices past the scan's
+// last beam simply match nothing.
 void beamsTowardsBox(const CellBox& box, double resolution, const Eigen::Vector2d& origin,
                      double first_beam_angle, double increment, std::vector<BeamRange>& ranges);
 

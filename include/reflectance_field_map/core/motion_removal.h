@@ -86,9 +86,8 @@ class MotionRemover {
   uint32_t find(uint32_t node);
   void unite(uint32_t a, uint32_t b);
   bool widelyVisible(const ReflectanceField& field, int slot, int reflective_bins) const;
+  // Decides each box tile's TileWork and records the tiles' versions for the next call.
   void planTiles(const ReflectanceField& field, const CellBox& box);
-  void rememberResult(const ReflectanceField& field, const CellBox& box,
-                      const std::vector<CellClass>& classes);
   size_t boxTileOf(int x, int y) const {
     return static_cast<size_t>(floorDiv(y, tile_cells_) - first_tile_.y()) * box_tiles_x_ +
            (floorDiv(x, tile_cells_) - first_tile_.x());
@@ -123,7 +122,7 @@ class MotionRemover {
   uint64_t previous_field_ = 0;  // ReflectanceField::identity(), 0: none
   CellBox previous_box_;
   std::vector<CellClass> previous_classes_;
-  std::vector<uint32_t> previous_versions_;  // per storage tile, of tiles inside previous_box_
+  std::vector<uint32_t> previous_versions_;  // per storage tile, of tiles in previous_box_
 };
 
 // True when circular bin intervals [a, a + a_len) and [b, b + b_len) share a bin.

@@ -210,7 +210,7 @@ class ReflectanceField {
  private:
   void applySummaryChange(int storage_index, int bin, int reflective, int missed) {
     if ((reflective | missed) == 0) return;
-    const int tile = storage_index >> tile_slot_shift_;
+    const int tile = storage_index >> window_.tileSlotShift();
     if (reflective != 0) {
       uint64_t& word =
           reflective_masks_[static_cast<size_t>(storage_index) * mask_words_ + (bin >> 6)];
@@ -246,7 +246,6 @@ class ReflectanceField {
   std::vector<uint8_t> hit_since_tick_;     // [y][x]
   std::vector<uint16_t> reflective_bins_;   // [y][x]
   std::vector<uint8_t> confirmed_ticks_;    // [y][x]
-  int tile_slot_shift_;
   std::vector<int> tile_reflective_cells_;  // per storage tile
   std::vector<uint32_t> tile_versions_;     // per storage tile
   // A new number for every field object, copies and assignments included.

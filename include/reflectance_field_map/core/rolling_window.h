@@ -90,6 +90,7 @@ class RollingWindow {
   }
   // Storage tile of a slot: slot >> tileSlotShift() (tiles are contiguous blocks of slots).
   int tileSlotShift() const { return 2 * tile_shift_; }
+  int storageTile(const TileIndex& tile) const { return tileFirstSlot(tile) >> tileSlotShift(); }
   int storageTiles() const { return tiles_per_side_ * tiles_per_side_; }
 
   void setOrigin(const TileIndex& origin_tile) { origin_tile_ = origin_tile; }
