@@ -1,5 +1,6 @@
 #pragma once
 
+#include "reflectance_field_map/core/fan_traversal.h"
 #include "reflectance_field_map/core/grid_geometry.h"
 #include "reflectance_field_map/core/laser_scan.h"
 #include "reflectance_field_map/core/ray_traversal.h"
@@ -118,19 +119,15 @@ void DeduplicatingRayInserter::insert(const RollingWindow& window, double invers
       writer.hit(slot);
       ++updates;
     }
-    for (uint32_t k = begin; k < end; ++k) {
-      const Ray& ray = rays[order[k]];
-      // A hit ray's end cell holds its hit; a cleared ray misses its end cell too.
-      walkWindowCells(ray.origin, ray.end, inverse_resolution, window, !ray.hit,
-                      [&](int slot, int, int) {
-                        if (stamps[slot] != stamp) {
-                          stamps[slot] = stamp;
-                          writer.miss(slot);
-                          ++updates;
-                        }
-                        return true;
-                      });
-    }
+    // Misses on every cell of the group's rays. A hit ray's end cell holds its hit: stamped
+    // above, so the sweep (which covers end cells) passes over it.
+    visitCellsOfRays(rays, &order[begin], end - begin, inverse_resolution, window, [&](int slot) {
+      if (stamps[slot] != stamp) {
+        stamps[slot] = stamp;
+        writer.miss(slot);
+        ++updates;
+      }
+    });
   }
   updates_ = updates;
 }

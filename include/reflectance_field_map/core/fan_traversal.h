@@ -1,0 +1,220 @@
+#pragma once
+
+#include "reflectance_field_map/core/grid_geometry.h"
+#include "reflectance_field_map/core/laser_scan.h"
+#include "reflectance_field_map/core/rolling_window.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <limits>
+#include <vector>
+
+namespace rfm {
+
+// Neighbouring beams of a scan cross mostly the same cells: 0.25 deg apart, they are less than
+// a 5 cm cell apart for the first 11 m, so walking each ray on its own visits a cell of a
+// theta bin's fan about three times. Sweeping the fan column by column along its major axis
+// visits the union of its rays' cells, mostly once each.
+namespace fan_detail {
+
+inline int floorToInt(double value) {
+  const int truncated = static_cast<int>(value);
+  return truncated - (value < truncated);
+}
+
+constexpr int kMaxFanRays = 32;
+
+constexpr int kFractionBits = 32;
+constexpr int64_t kOneCell = int64_t{1} << kFractionBits;
+
+inline int64_t toFixed(double value) {
+  const double scaled = value * static_cast<double>(kOneCell);
+  return static_cast<int64_t>(scaled + (scaled >= 0.0 ? 0.5 : -0.5));
+}
+
+// A ray in its fan's axes (major: the axis it advances along fastest). Minor coordinates are
+// fixed point with 32 fraction bits, in cells: a row is a shift, a column an add. No
+// initialisers: a fan is set up per theta bin and scan.
+struct FanRay {
+  int64_t first_exit;  // minor coordinate where the ray crosses the first column's far edge
+  int64_t per_column;  // its change from one column edge to the next
+  // On an exact corner the traversal steps along y first: with x major the row beyond the
+  // corner still belongs to the column, with y major it belongs to the next. 1 when a
+  // coordinate on a row edge counts in the row below, else 0.
+  int64_t tie_bias;
+  int columns;  // columns after the first
+  int end_row;
+  int row_low, row_high;  // rows between the start and end cells
+};
+
+// Row in which the ray leaves column i < columns.
+inline int exitRow(const FanRay& ray, int column) {
+  const int64_t minor = ray.first_exit + column * ray.per_column - ray.tie_bias;
+  const int row = static_cast<int>(minor >> kFractionBits);  // arithmetic shift: floor
+  return std::min(std::max(row, ray.row_low), ray.row_high);
+}
+
+// Number of columns, from the first, over which two neighbouring rays cross every column edge
+// less than a row apart (with a margin for rounding): their rows then differ by at most one.
+inline int columnsJoined(const FanRay& a, const FanRay& b) {
+  constexpr int64_t kLimit = kOneCell - (int64_t{1} << 16);
+  const int64_t apart = std::abs(a.first_exit - b.first_exit);
+  const int64_t spread = std::abs(a.per_column - b.per_column);
+  if (apart >= kLimit) return 0;
+  if (spread == 0) return std::numeric_limits<int>::max();
+  return static_cast<int>(
+      std::min<int64_t>((kLimit - 1 - apart) / spread + 1, std::numeric_limits<int>::max()));
+}
+
+template <int kMajor, typename Visit>
+void sweepFan(int column0, int row0, int step, FanRay* fan, int count, const RollingWindow& window,
+              Visit& visit) {
+  const int size = window.sizeCells();
+  const SlotIndexer slot_of = window.slotIndexer();
+  const int storage_row0 = positiveMod(row0, size);
+  int storage_column = positiveMod(column0, size);
+  // Rays lie inside the window, so one wrap brings any of their rows into storage.
+  auto visit_rows = [&](int low, int high) {
+    int storage_row = storage_row0 + (low - row0);
+    storage_row += storage_row < 0 ? size : (storage_row >= size ? -size : 0);
+    for (int r = low; r <= high; ++r) {
+      visit(kMajor == 0 ? slot_of(storage_column, storage_row)
+                        : slot_of(storage_row, storage_column));
+      storage_row = storage_row + 1 == size ? 0 : storage_row + 1;
+    }
+  };
+  auto entry_row = [row0](const FanRay& ray, int column) {
+    return column == 0 ? row0 : exitRow(ray, column - 1);
+  };
+
+  int active[kMaxFanRays];  // rays not yet ended, in fan order
+  int active_count = count;
+  for (int k = 0; k < count; ++k)
+    active[k] = k;
+  bool drifted_apart = false;  // for good: gaps only grow along the fan
+  int column = 0;
+  while (active_count > 0) {
+    // Until a ray ends or neighbours drift apart, the rays' cells in a column form one run,
+    // bounded by the outermost two rays (slopes are monotone along the fan).
+    int joined_end = column;
+    if (!drifted_apart) {
+      int first_end = std::numeric_limits<int>::max(), joined = first_end;
+      for (int a = 0; a < active_count; ++a) {
+        first_end = std::min(first_end, fan[active[a]].columns);
+        if (a > 0) joined = std::min(joined, columnsJoined(fan[active[a - 1]], fan[active[a]]));
+      }
+      drifted_apart = joined < first_end;
+      joined_end = std::max(column, std::min(first_end, joined));
+    }
+    if (column < joined_end) {
+      const FanRay& first = fan[active[0]];
+      const FanRay& last = fan[active[active_count - 1]];
+      int first_row = entry_row(first, column), last_row = entry_row(last, column);
+      for (; column < joined_end; ++column) {
+        const int first_exit = exitRow(first, column), last_exit = exitRow(last, column);
+        visit_rows(std::min(std::min(first_row, first_exit), std::min(last_row, last_exit)),
+                   std::max(std::max(first_row, first_exit), std::max(last_row, last_exit)));
+        first_row = first_exit;
+        last_row = last_exit;
+        storage_column += step;
+        storage_column =
+            storage_column == size ? 0 : (storage_column < 0 ? size - 1 : storage_column);
+      }
+    }
+    // One column ray by ray (a ray ends in it, or they have drifted apart): each ray's rows,
+    // merged into runs as they come.
+    int run_low = 0, run_high = -1;  // empty
+    int still_active = 0;
+    for (int a = 0; a < active_count; ++a) {
+      const FanRay& ray = fan[active[a]];
+      const int entry = entry_row(ray, column);
+      const int exit = ray.columns == column ? ray.end_row : exitRow(ray, column);
+      const int low = std::min(entry, exit), high = std::max(entry, exit);
+      if (run_low <= run_high && low <= run_high + 1 && high >= run_low - 1) {
+        run_low = std::min(run_low, low);
+        run_high = std::max(run_high, high);
+      } else {
+        if (run_low <= run_high) visit_rows(run_low, run_high);
+        run_low = low;
+        run_high = high;
+      }
+      if (ray.columns > column) active[still_active++] = active[a];
+    }
+    if (run_low <= run_high) visit_rows(run_low, run_high);
+    active_count = still_active;
+    ++column;
+    storage_column += step;
+    storage_column = storage_column == size ? 0 : (storage_column < 0 ? size - 1 : storage_column);
+  }
+}
+
+}  // namespace fan_detail
+
+// Visits every cell that walkWindowCells visits for each of the rays rays[order[k]],
+// k in [0, count), end cells included, in no particular order; a cell may be visited more than
+// once. Consecutive rays from one origin whose slopes run monotonically (a scan's beams, as
+// grouped by theta bin) are swept together. Rays must lie inside the window.
+// Where a ray passes within rounding error of a cell corner or runs along a cell edge, the two
+// may take different sides (both are exact up to rounding); real rays practically never do.
+template <typename Visit>
+void visitCellsOfRays(const std::vector<Ray>& rays, const uint32_t* order, size_t count,
+                      double inverse_resolution, const RollingWindow& window, Visit&& visit) {
+  using fan_detail::FanRay;
+  FanRay fan[fan_detail::kMaxFanRays];
+  size_t k = 0;
+  while (k < count) {
+    // Grow a fan from ray k while the rays share origin, major axis, direction and slope order.
+    const Ray& head = rays[order[k]];
+    const double start[2] = {head.origin.x() * inverse_resolution,
+                             head.origin.y() * inverse_resolution};
+    const Eigen::Vector2d head_delta = head.end - head.origin;
+    const int major = std::abs(head_delta.x()) >= std::abs(head_delta.y()) ? 0 : 1;
+    const int minor = 1 - major;
+    const int step = head_delta[major] > 0 ? 1 : -1;
+    const int column0 = fan_detail::floorToInt(start[major]);
+    const int row0 = fan_detail::floorToInt(start[minor]);
+    // From the start to the first column's far edge, along the major axis.
+    const double first_edge =
+        (step > 0 ? column0 + 1.0 : static_cast<double>(column0)) - start[major];
+    int count_in_fan = 0;
+    int slope_order = 0;  // +1 ascending, -1 descending, 0 not yet known
+    double previous_slope = 0.0;
+    for (; k < count && count_in_fan < fan_detail::kMaxFanRays; ++k) {
+      const Ray& ray = rays[order[k]];
+      const Eigen::Vector2d delta = ray.end - ray.origin;
+      if (ray.origin != head.origin ||
+          (std::abs(delta.x()) >= std::abs(delta.y()) ? 0 : 1) != major ||
+          (delta[major] > 0 ? 1 : -1) != step) {
+        break;
+      }
+      const double end_major = ray.end[major] * inverse_resolution;
+      const double end_minor = ray.end[minor] * inverse_resolution;
+      const double run = end_major - start[major];
+      const double slope = run != 0.0 ? (end_minor - start[minor]) / run : 0.0;
+      if (count_in_fan > 0) {
+        const int order_here = slope > previous_slope ? 1 : (slope < previous_slope ? -1 : 0);
+        if (order_here != 0 && slope_order != 0 && order_here != slope_order) break;
+        if (order_here != 0) slope_order = order_here;
+      }
+      previous_slope = slope;
+      FanRay& entry = fan[count_in_fan++];
+      entry.first_exit = fan_detail::toFixed(start[minor] + first_edge * slope);
+      entry.per_column = fan_detail::toFixed(step * slope);
+      const bool descending = end_minor < start[minor];
+      entry.tie_bias = descending == (major == 0) ? 1 : 0;
+      entry.columns = std::abs(fan_detail::floorToInt(end_major) - column0);
+      entry.end_row = fan_detail::floorToInt(end_minor);
+      entry.row_low = std::min(row0, entry.end_row);
+      entry.row_high = std::max(row0, entry.end_row);
+    }
+    if (major == 0) {
+      fan_detail::sweepFan<0>(column0, row0, step, fan, count_in_fan, window, visit);
+    } else {
+      fan_detail::sweepFan<1>(column0, row0, step, fan, count_in_fan, window, visit);
+    }
+  }
+}
+
+}  // namespace rfm
