@@ -147,9 +147,13 @@ BatchResult processBatch(const std::vector<TimedScan>& input, const MapperOption
   for (int pass = 0; pass < passes; ++pass) {
     if (pass > 0) mapper.restartEvidence();
     auto start = std::chrono::steady_clock::now();
-    for (const TimedScan& scan : scans) {
-      mapper.addScan(scan);
-      if (progress) progress(++done, total_steps);
+    // In chunks, so the progress bar moves while the threads insert.
+    constexpr size_t kChunk = 256;
+    for (size_t first = 0; first < scans.size(); first += kChunk) {
+      const size_t last = std::min(scans.size(), first + kChunk);
+      mapper.addScans(scans.begin() + first, scans.begin() + last);
+      done += last - first;
+      if (progress) progress(done, total_steps);
     }
     result.timings.insert_ms += millisecondsSince(start);
     start = std::chrono::steady_clock::now();

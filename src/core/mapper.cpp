@@ -71,6 +71,7 @@ struct Mapper::Impl {
   double last_tick_stamp = 0.0;  // persistence ticks follow the scans' clock
   std::deque<BufferedScan> buffer;
   std::vector<Ray> rays;
+  std::vector<std::vector<Ray>> pending;  // addScans: prepared, not yet inserted
   std::vector<CellClass> box_classes;
   MapperStats stats;
   // Cells with fewer reflective bins cannot be widely visible: no history (departures) for them.
@@ -91,6 +92,44 @@ CellClass Mapper::cellClass(const CellIndex& cell) const {
 }
 
 ScanUpdate Mapper::addScan(const TimedScan& scan) {
+  ScanUpdate update = prepareScan(scan, impl_->rays);
+  if (!update.error.empty()) return update;
+  const auto insert_start = std::chrono::steady_clock::now();
+  update.bin_updates = impl_->inserter.insert(impl_->rays, field_);
+  update.insert_ms = millisecondsSince(insert_start);
+  finishScan(scan, impl_->rays, update);
+  return update;
+}
+
+void Mapper::addScans(ScanIterator first, ScanIterator last) {
+  if (options_.reflection_removal.reflection_removal_enabled && impl_->blocking_cells > 0) {
+    // The glass check reads the field as the scans before left it: one by one.
+    for (ScanIterator scan = first; scan != last; ++scan)
+      addScan(*scan);
+    return;
+  }
+  // Scans go into the field together until the window moves or a persistence tick is due
+  // (ticks read the field as the scans before them left it).
+  std::vector<std::vector<Ray>>& pending = impl_->pending;
+  size_t pending_count = 0;
+  auto flush = [&] {
+    impl_->inserter.insertScans(pending, pending_count, field_);
+    pending_count = 0;
+  };
+  for (ScanIterator scan = first; scan != last; ++scan) {
+    if (pending_count > 0 && field_.wouldRecenter(scan->robot_pose.position)) flush();
+    if (pending.size() <= pending_count) pending.resize(pending_count + 1);
+    const std::vector<Ray>& rays = pending[pending_count];
+    ScanUpdate update = prepareScan(*scan, pending[pending_count]);
+    if (!update.error.empty()) continue;
+    ++pending_count;
+    if (tickDue(scan->stamp)) flush();
+    finishScan(*scan, rays, update);
+  }
+  if (pending_count > 0) flush();
+}
+
+ScanUpdate Mapper::prepareScan(const TimedScan& scan, std::vector<Ray>& rays) {
   ScanUpdate update;
   update.labels.assign(scan.scan.ranges.size(), RayLabel::kNoReturn);
   update.error = scan.scan.validate();
@@ -112,7 +151,6 @@ ScanUpdate Mapper::addScan(const TimedScan& scan) {
     updateClearance();
   }
 
-  std::vector<Ray>& rays = impl_->rays;
   scanToRays(scan.scan, scan.sensor_pose, options_.insertion, rays);
   for (const Ray& ray : rays)
     update.labels[ray.beam] = RayLabel::kKept;
@@ -128,12 +166,12 @@ ScanUpdate Mapper::addScan(const TimedScan& scan) {
         std::count(update.labels.begin(), update.labels.end(), RayLabel::kReflection);
   }
   update.reflection_ms = millisecondsSince(reflection_start);
+  return update;
+}
 
-  const auto insert_start = std::chrono::steady_clock::now();
-  update.bin_updates = impl_->inserter.insert(rays, field_);
-  update.insert_ms = millisecondsSince(insert_start);
+void Mapper::finishScan(const TimedScan& scan, const std::vector<Ray>& rays,
+                        const ScanUpdate& update) {
   tickPersistenceIfDue(scan.stamp);
-
   if (options_.reflection_removal.scan_buffer_size > 0) {
     impl_->buffer.push_back({rays, scan.sensor_pose.position,
                              scan.sensor_pose.yaw + scan.scan.angle_min,
@@ -147,16 +185,19 @@ ScanUpdate Mapper::addScan(const TimedScan& scan) {
   impl_->stats.rays_inserted += rays.size();
   impl_->stats.last_insert_ms = update.insert_ms;
   impl_->stats.last_reflection_ms = update.reflection_ms;
-  return update;
+}
+
+bool Mapper::tickDue(double stamp) const {
+  return impl_->stats.scans_processed > 0 && stamp >= impl_->last_tick_stamp &&
+         stamp - impl_->last_tick_stamp >= 1.0 / options_.motion_removal.motion_removal_rate;
 }
 
 void Mapper::tickPersistenceIfDue(double stamp) {
-  const double period = 1.0 / options_.motion_removal.motion_removal_rate;
-  if (impl_->stats.scans_processed == 0 || stamp < impl_->last_tick_stamp) {
-    impl_->last_tick_stamp = stamp;  // first scan, or time went back
-  } else if (stamp - impl_->last_tick_stamp >= period) {
+  if (tickDue(stamp)) {
     field_.tickPersistence(impl_->remembered_min_bins);
     impl_->last_tick_stamp = stamp;
+  } else if (impl_->stats.scans_processed == 0 || stamp < impl_->last_tick_stamp) {
+    impl_->last_tick_stamp = stamp;  // first scan, or time went back
   }
 }
 

@@ -39,43 +39,51 @@ ScanInserter::ScanInserter(std::shared_ptr<ParallelRunner> runner)
 
 ScanInserter::~ScanInserter() = default;
 
-template <typename MakeTarget>
-void ScanInserter::run(const std::vector<Ray>& rays, const ReflectanceField& field,
-                       MakeTarget&& make_target, bool parallel) {
+void ScanInserter::prepare(const std::vector<Ray>& rays, const ReflectanceField& field,
+                           PreparedScan& prepared) {
   const CellBox box = field.activeBox();
   const double resolution = field.geometry().resolution();
-  clipped_.clear();
+  prepared.clipped.clear();
   for (const Ray& ray : rays) {
     Ray clipped = ray;
-    if (clipRayToBox(box, resolution, clipped)) clipped_.push_back(clipped);
+    if (clipRayToBox(box, resolution, clipped)) prepared.clipped.push_back(clipped);
   }
-  bucketRaysByBin(clipped_, field.geometry(), order_, group_begin_);
-  const double inverse_resolution = field.geometry().inverseResolution();
-  // Too few rays are not worth waking a helper for.
-  constexpr size_t kMinRaysToSplit = 64;
-  if (!parallel || !runner_ || runner_->threads() == 1 || clipped_.size() < kMinRaysToSplit) {
-    auto&& target = make_target(-1);
-    inserters_[0].insert(field.window(), inverse_resolution, clipped_, order_, group_begin_,
-                         target);
-    updates_ = inserters_[0].updates();
-    return;
-  }
+  bucketRaysByBin(prepared.clipped, field.geometry(), prepared.order, prepared.group_begin);
+}
+
+template <typename InsertBins>
+size_t ScanInserter::forBinChunks(int bins, bool parallel, InsertBins&& insert_bins) {
+  if (!parallel || !runner_ || runner_->threads() == 1) return insert_bins(0, bins, -1);
   // Threads take chunks of bins as they become free: rays differ in length and overlap, so a
   // static split would leave one thread waiting for the other. Each thread has its own stamps.
   constexpr size_t kChunkBins = 6;
-  const size_t groups = group_begin_.size() - 1;
   std::vector<size_t> thread_updates(runner_->threads(), 0);
-  parallelFor(runner_.get(), (groups + kChunkBins - 1) / kChunkBins, 1,
-              [&](size_t chunk, int thread) {
-                auto&& target = make_target(thread);
-                inserters_[thread].insert(field.window(), inverse_resolution, clipped_, order_,
-                                          group_begin_, target, chunk * kChunkBins,
-                                          (chunk + 1) * kChunkBins);
-                thread_updates[thread] += inserters_[thread].updates();
-              });
-  updates_ = 0;
-  for (size_t updates : thread_updates)
-    updates_ += updates;
+  parallelFor(
+      runner_.get(), (bins + kChunkBins - 1) / kChunkBins, 1, [&](size_t chunk, int thread) {
+        thread_updates[thread] += insert_bins(chunk * kChunkBins, (chunk + 1) * kChunkBins, thread);
+      });
+  size_t updates = 0;
+  for (size_t part : thread_updates)
+    updates += part;
+  return updates;
+}
+
+template <typename MakeTarget>
+void ScanInserter::run(const std::vector<Ray>& rays, const ReflectanceField& field,
+                       MakeTarget&& make_target, bool parallel) {
+  prepare(rays, field, single_);
+  // Too few rays are not worth waking a helper for.
+  constexpr size_t kMinRaysToSplit = 64;
+  parallel &= single_.clipped.size() >= kMinRaysToSplit;
+  const double inverse_resolution = field.geometry().inverseResolution();
+  updates_ = forBinChunks(
+      field.geometry().thetaBins(), parallel, [&](size_t first_bin, size_t end_bin, int part) {
+        auto&& target = make_target(part);
+        DeduplicatingRayInserter& inserter = inserters_[std::max(part, 0)];
+        inserter.insert(field.window(), inverse_resolution, single_.clipped, single_.order,
+                        single_.group_begin, target, first_bin, end_bin);
+        return inserter.updates();
+      });
 }
 
 size_t ScanInserter::insert(const std::vector<Ray>& rays, ReflectanceField& field) {
@@ -92,6 +100,33 @@ size_t ScanInserter::insert(const std::vector<Ray>& rays, ReflectanceField& fiel
   for (const DeferredChanges& deferred : deferred_)
     field.applySummaryChanges(deferred.changes);
   return updates_;
+}
+
+size_t ScanInserter::insertScans(const std::vector<std::vector<Ray>>& scans, size_t count,
+                                 ReflectanceField& field) {
+  if (batch_.size() < count) batch_.resize(count);
+  for (size_t s = 0; s < count; ++s)
+    prepare(scans[s], field, batch_[s]);
+  deferred_.resize(inserters_.size());
+  for (DeferredChanges& deferred : deferred_)
+    deferred.changes.clear();
+  const double inverse_resolution = field.geometry().inverseResolution();
+  // Each bin sees the scans in their order, so its filters take the same updates as scan by scan.
+  const size_t updates = forBinChunks(
+      field.geometry().thetaBins(), true, [&](size_t first_bin, size_t end_bin, int part) {
+        FieldTarget target{field, part < 0 ? nullptr : &deferred_[part].changes};
+        DeduplicatingRayInserter& inserter = inserters_[std::max(part, 0)];
+        size_t done = 0;
+        for (size_t s = 0; s < count; ++s) {
+          inserter.insert(field.window(), inverse_resolution, batch_[s].clipped, batch_[s].order,
+                          batch_[s].group_begin, target, first_bin, end_bin);
+          done += inserter.updates();
+        }
+        return done;
+      });
+  for (const DeferredChanges& deferred : deferred_)
+    field.applySummaryChanges(deferred.changes);
+  return updates;
 }
 
 void ScanInserter::collectUpdates(const std::vector<Ray>& rays, const ReflectanceField& field,

@@ -106,6 +106,77 @@ TEST(Mapper, GlobalMapKeepsWhatTheActiveRegionLeftBehind) {
   EXPECT_GT(mapper.stats().archived_bytes, 0u);
 }
 
+// Same field, persistence and classes as addScan one by one, while the window moves, ticks
+// fall inside groups of scans and (with reflection removal) known glass cuts rays.
+void expectAddScansMatchesAddScan(bool reflection_removal) {
+  SyntheticWorld world;
+  world.addWall({0.0, 2.0}, {40.0, 2.0});
+  world.addWall({0.0, -2.0}, {6.0, -2.0});
+  world.addFramedPane({6.0, -2.0}, {10.0, -2.0});
+  world.addWall({10.0, -2.0}, {40.0, -2.0});
+  world.addWall({8.0, -6.0}, {12.0, -6.0});  // seen through the glass
+  MapperOptions options = testing::scenarioOptions();
+  options.reflection_removal.reflection_removal_enabled = reflection_removal;
+  Mapper one_by_one(options), grouped(options);
+  std::vector<TimedScan> scans;
+  int i = 0;
+  // Facing back while driving on, so rays reach the tiles the window leaves behind.
+  for (const auto& step : driveBy({1.0, 0.0}, {16.0, 0.0}, kPi - 0.3))
+    scans.push_back(world.timedScan(step.robot, 0.025 * i++));
+  constexpr size_t kGroup = 33;  // not a multiple of the 20 scans between ticks
+  for (size_t first = 0; first < scans.size(); first += kGroup) {
+    const size_t last = std::min(scans.size(), first + kGroup);
+    for (size_t k = first; k < last; ++k)
+      one_by_one.addScan(scans[k]);
+    grouped.addScans(scans.begin() + first, scans.begin() + last);
+    one_by_one.removeMotion();
+    grouped.removeMotion();
+  }
+  const ReflectanceField& a = one_by_one.field();
+  const ReflectanceField& b = grouped.field();
+  ASSERT_EQ(a.activeBox().min, b.activeBox().min);
+  EXPECT_TRUE(a.wouldRecenter({1.0, 0.0}));  // the window moved on from the start
+  size_t reflective = 0, confirmed = 0;
+  a.window().forEachCell(a.activeBox(), [&](int, int, int slot) {
+    ASSERT_EQ(a.reflectiveBinsAt(slot), b.reflectiveBinsAt(slot));
+    ASSERT_EQ(a.missedBinsAt(slot), b.missedBinsAt(slot));
+    ASSERT_EQ(a.confirmedTicksAt(slot), b.confirmedTicksAt(slot));
+    reflective += a.reflectiveBinsAt(slot);
+    confirmed += a.confirmedTicksAt(slot) > 0;
+  });
+  for (int y = a.activeBox().min.y(); y < a.activeBox().max.y(); ++y) {
+    for (int x = a.activeBox().min.x(); x < a.activeBox().max.x(); ++x) {
+      for (int bin = 0; bin < a.geometry().thetaBins(); ++bin)
+        ASSERT_EQ(a.value({x, y}, bin), b.value({x, y}, bin)) << x << " " << y << " " << bin;
+    }
+  }
+  EXPECT_GT(reflective, 1000u);
+  EXPECT_GT(confirmed, 100u);
+  EXPECT_EQ(one_by_one.stats().scans_processed, grouped.stats().scans_processed);
+  EXPECT_EQ(one_by_one.stats().reflection_rays, grouped.stats().reflection_rays);
+  if (reflection_removal) {
+    EXPECT_GT(grouped.stats().reflection_rays, 0u);
+  }
+  std::vector<CellClass> classes_a, classes_b;
+  one_by_one.map().extract(one_by_one.map().bounds(), classes_a);
+  grouped.map().extract(one_by_one.map().bounds(), classes_b);
+  EXPECT_EQ(classes_a, classes_b);
+  // Everything else too, the evidence of the tiles that left the window included.
+  EXPECT_GT(a.archivedTiles(), 0u);
+  std::stringstream state_a, state_b;
+  one_by_one.save(state_a);
+  grouped.save(state_b);
+  EXPECT_TRUE(state_a.str() == state_b.str());
+}
+
+TEST(Mapper, AddScansGivesWhatAddScanGivesOneByOne) {
+  expectAddScansMatchesAddScan(false);
+}
+
+TEST(Mapper, AddScansGivesWhatAddScanGivesWithReflectionRemoval) {
+  expectAddScansMatchesAddScan(true);
+}
+
 TEST(BatchProcessor, PlainGridBaselineErasesGlassThatTheRfmKeeps) {
   SyntheticWorld world = room();
   std::vector<TimedScan> scans;

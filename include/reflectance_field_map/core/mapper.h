@@ -74,6 +74,11 @@ class Mapper {
   // (reflection removal, Alg. 3) and inserts the rest (Alg. 1).
   ScanUpdate addScan(const TimedScan& scan);
 
+  // addScan on each scan in turn, with the same result, for a batch: scans between window moves
+  // and persistence ticks are inserted theta bin by theta bin (no per-scan ScanUpdate).
+  using ScanIterator = std::vector<TimedScan>::const_iterator;
+  void addScans(ScanIterator first, ScanIterator last);
+
   // Motion removal (Alg. 2) over the active region, then writes the region's classes into the
   // global map. When new glass appears, buffered scans are re-processed against it.
   MotionRemovalSummary removeMotion();
@@ -95,7 +100,6 @@ class Mapper {
   // removal has judged it.
   std::vector<RayLabel> labelScan(const TimedScan& scan, bool final_map = false) const;
   // labelScan of the scans [first, last), on the mapper's threads.
-  using ScanIterator = std::vector<TimedScan>::const_iterator;
   std::vector<std::vector<RayLabel>> labelScans(ScanIterator first, ScanIterator last,
                                                 bool final_map = false) const;
 
@@ -115,6 +119,11 @@ class Mapper {
   void revertEvidenceBehindGlass(const CellBox& new_glass);
   void undo(const BinUpdate& update);
   void redo(const BinUpdate& update);
+  // addScan up to the insertion: re-centres, makes the rays (into `rays`), clips them and cuts
+  // them at known glass. finishScan does what follows the insertion.
+  ScanUpdate prepareScan(const TimedScan& scan, std::vector<Ray>& rays);
+  void finishScan(const TimedScan& scan, const std::vector<Ray>& rays, const ScanUpdate& update);
+  bool tickDue(double stamp) const;
   void tickPersistenceIfDue(double stamp);
   // Recomputes the clearance of the window's classes (after they changed).
   void updateClearance();

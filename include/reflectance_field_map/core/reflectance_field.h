@@ -36,6 +36,11 @@ class ReflectanceField {
   // are archived and cleared; tiles that enter are restored from the archive (tiles side by
   // side on the runner's threads, when given).
   WindowShift recenter(const Eigen::Vector2d& robot_position, ParallelRunner* runner = nullptr);
+  // Whether recenter(robot_position) would move the window.
+  bool wouldRecenter(const Eigen::Vector2d& robot_position) const {
+    return !centred_ ||
+           window_.originCentredOn(geometry_.cellOf(robot_position)) != window_.originTile();
+  }
 
   // Bin access for cells inside the active region.
   int8_t value(const CellIndex& cell, int bin) const {

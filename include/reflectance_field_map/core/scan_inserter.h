@@ -38,6 +38,11 @@ class ScanInserter {
 
   // Returns the number of (cell, bin) updates applied.
   size_t insert(const std::vector<Ray>& rays, ReflectanceField& field);
+  // The same as insert() on each scan in turn (the window must stay put), but theta bin by theta
+  // bin across the scans: a bin's slice is then written for all of them while it is in cache.
+  // Inserts scans[0, count).
+  size_t insertScans(const std::vector<std::vector<Ray>>& scans, size_t count,
+                     ReflectanceField& field);
   // The updates insert() would apply for `rays`, sorted by (slot, bin); the field is unchanged.
   void collectUpdates(const std::vector<Ray>& rays, const ReflectanceField& field,
                       std::vector<BinUpdate>& updates);
@@ -48,9 +53,21 @@ class ScanInserter {
   void run(const std::vector<Ray>& rays, const ReflectanceField& field, MakeTarget&& make_target,
            bool parallel);
 
-  std::vector<Ray> clipped_;
-  std::vector<uint32_t> order_;
-  std::vector<uint32_t> group_begin_;
+  // A scan's rays clipped to the window and bucketed by theta bin.
+  struct PreparedScan {
+    std::vector<Ray> clipped;
+    std::vector<uint32_t> order;
+    std::vector<uint32_t> group_begin;
+  };
+  static void prepare(const std::vector<Ray>& rays, const ReflectanceField& field,
+                      PreparedScan& prepared);
+  // Runs insert_bins(first_bin, end_bin, part) over all bins: in chunks on the runner's threads
+  // (part = thread), or at once by the caller (part -1). Returns the sum of its results.
+  template <typename InsertBins>
+  size_t forBinChunks(int bins, bool parallel, InsertBins&& insert_bins);
+
+  PreparedScan single_;
+  std::vector<PreparedScan> batch_;
   std::vector<DeduplicatingRayInserter> inserters_;  // one per thread: each has its own stamps
   // Per thread, each in its own cache line (threads append to them side by side).
   struct alignas(64) DeferredChanges {
