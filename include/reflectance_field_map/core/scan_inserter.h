@@ -38,9 +38,8 @@ class ScanInserter {
 
   // Returns the number of (cell, bin) updates applied.
   size_t insert(const std::vector<Ray>& rays, ReflectanceField& field);
-  // The same as insert() on each scan in turn (the window must stay put), but theta bin by theta
-  // bin across the scans: a bin's slice is then written for all of them while it is in cache.
-  // Inserts scans[0, count).
+  // The same as insert() on scans[0, count) in turn (the window must stay put), but theta bin by
+  // theta bin across the scans: a bin's slice is written for all of them while it is in cache.
   size_t insertScans(const std::vector<std::vector<Ray>>& scans, size_t count,
                      ReflectanceField& field);
   // The updates insert() would apply for `rays`, sorted by (slot, bin); the field is unchanged.
