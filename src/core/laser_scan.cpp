@@ -79,13 +79,13 @@ void beamsTowardsBox(const CellBox& box, double resolution, const Eigen::Vector2
   for (const Eigen::Vector2d& corner :
        {low, high, Eigen::Vector2d(low.x(), high.y()), Eigen::Vector2d(high.x(), low.y())}) {
     const Eigen::Vector2d d = corner - origin;
-    const double offset = std::remainder(std::atan2(d.y(), d.x()) - towards_centre, 2.0 * M_PI);
+    const double offset = std::remainder(std::atan2(d.y(), d.x()) - towards_centre, kTwoPi);
     lo = std::min(lo, offset);
     hi = std::max(hi, offset);
   }
   const double slack = 2.0 * increment;
-  double start = std::fmod(towards_centre + lo - slack - first_beam_angle, 2.0 * M_PI);
-  if (start < 0.0) start += 2.0 * M_PI;
+  double start = std::fmod(towards_centre + lo - slack - first_beam_angle, kTwoPi);
+  if (start < 0.0) start += kTwoPi;
   const double end = start + (hi - lo) + 2.0 * slack;
   auto beam_at_or_after = [&](double angle) {
     return static_cast<uint32_t>(std::clamp(std::ceil(angle / increment), 0.0, 4e9));
@@ -94,7 +94,7 @@ void beamsTowardsBox(const CellBox& box, double resolution, const Eigen::Vector2
     return static_cast<uint32_t>(std::clamp(std::floor(angle / increment), 0.0, 4e9));
   };
   // The extent and its copies a turn either side (a scan of over a turn repeats directions).
-  for (const double turn : {-2.0 * M_PI, 0.0, 2.0 * M_PI}) {
+  for (const double turn : {-kTwoPi, 0.0, kTwoPi}) {
     if (end + turn >= 0.0) {
       ranges.push_back(
           {beam_at_or_after(std::max(0.0, start + turn)), beam_at_or_before(end + turn)});

@@ -216,11 +216,8 @@ MotionRemovalSummary Mapper::removeMotion() {
     box_classes.resize(static_cast<size_t>(box.width()) * box.height());
     size_t i = 0, free_cells = 0, occupied = 0;
     field_.window().forEachCell(box, [&](int, int, int slot) {
-      const uint64_t* mask = field_.reflectiveMaskAt(slot);
-      int reflective = 0;
-      for (int w = 0; w < field_.maskWords(); ++w)
-        reflective += __builtin_popcountll(mask[w]);
-      const CellClass c = impl_->rule.classify(reflective, field_.missedBinsAt(slot));
+      const CellClass c =
+          impl_->rule.classify(field_.reflectiveBinsAt(slot), field_.missedBinsAt(slot));
       box_classes[i++] = c;
       free_cells += c == CellClass::kFree;
       occupied += c == CellClass::kOccupied;

@@ -263,9 +263,8 @@ void MotionRemover::classifyBand(const ReflectanceField& field, const CellBox& b
           }
           case TileWork::kFreeSpace:
             for (size_t local = begin; local < end; ++local) {
-              const bool free = field.missedBinsAt(slots_[local]) > 0;
-              classes[local] = free ? CellClass::kFree : CellClass::kUnknown;
-              counts.free_cells += free;
+              classes[local] = rule_.classify(0, field.missedBinsAt(slots_[local]));
+              counts.free_cells += classes[local] == CellClass::kFree;
             }
             return;
           case TileWork::kComponents:
@@ -281,8 +280,8 @@ void MotionRemover::classifyBand(const ReflectanceField& field, const CellBox& b
             anchored |= anchored_[root_[r]] != 0 || (persistent_[root_[r]] && longEnough(root_[r]));
           }
           CellClass& c = classes[local];
-          if (!rule_.isOccupied(reflective)) {
-            c = field.missedBinsAt(slots_[local]) > 0 ? CellClass::kFree : CellClass::kUnknown;
+          c = rule_.classify(reflective, field.missedBinsAt(slots_[local]));
+          if (c != CellClass::kOccupied) {
             counts.free_cells += c == CellClass::kFree;
           } else if (widely_visible_[local]) {
             c = CellClass::kStatic;

@@ -11,7 +11,7 @@ OccupancyRule::OccupancyRule(const OccupancyOptions& options, double bin_width)
       metal_min_bins_(static_cast<int>(std::ceil(options.metal_min_angle / bin_width - 1e-9))) {}
 
 int OccupancyRule::minWidelyVisibleBins(const LogOddsModel& model, int bins) const {
-  const double bin_width = 2.0 * M_PI / bins;
+  const double bin_width = kTwoPi / bins;
   const double max_odds = model.odds(static_cast<int8_t>(model.maxValue()));
   if (max_odds <= 1.0) return bins + 1;  // nothing can beat the prior
   const double needed = (options_.beta / bin_width - bins) / (max_odds - 1.0);
