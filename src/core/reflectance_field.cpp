@@ -76,11 +76,15 @@ void ReflectanceField::archiveTiles(const std::vector<TileIndex>& tiles, Paralle
   // Tiles are gathered, compressed and cleared side by side; the archive itself is one map.
   std::vector<std::vector<uint8_t>> packed(tiles.size());
   parallelFor(runner, tiles.size(), 1, [&](size_t i, int) {
-    std::vector<int8_t> bins;
-    gatherTile(tiles[i], bins);
-    const bool observed = std::any_of(bins.begin(), bins.end(), [](int8_t v) { return v != 0; });
-    if (observed) packed[i] = compressBins(bins.data(), bins.size());
-    clearTileStorage(tiles[i]);
+    // The cell summaries count every bin off the prior, so a tile they call empty holds nothing
+    // to keep and its bins are already clear: most of a window's tiles, at long range.
+    const bool observed = tileHoldsEvidence(tiles[i]);
+    if (observed) {
+      std::vector<int8_t> bins;
+      gatherTile(tiles[i], bins);
+      packed[i] = compressBins(bins.data(), bins.size());
+    }
+    clearTileStorage(tiles[i], observed);
   });
   const int tile_slots = window_.tileCells() * window_.tileCells();
   for (size_t i = 0; i < tiles.size(); ++i) {
@@ -207,11 +211,21 @@ void ReflectanceField::scatterTile(const TileIndex& tile, const std::vector<int8
   }
 }
 
-void ReflectanceField::clearTileStorage(const TileIndex& tile) {
+bool ReflectanceField::tileHoldsEvidence(const TileIndex& tile) const {
   const size_t cells = static_cast<size_t>(window_.tileCells()) * window_.tileCells();
   const size_t first = window_.tileFirstSlot(tile);
-  for (int bin = 0; bin < theta_bins_; ++bin) {
-    std::fill_n(&bins_[bin * plane_ + first], cells, 0);
+  for (size_t slot = first; slot < first + cells; ++slot) {
+    if (reflective_bins_[slot] != 0 || missed_bins_[slot] != 0) return true;
+  }
+  return false;
+}
+
+void ReflectanceField::clearTileStorage(const TileIndex& tile, bool bins_too) {
+  const size_t cells = static_cast<size_t>(window_.tileCells()) * window_.tileCells();
+  const size_t first = window_.tileFirstSlot(tile);
+  if (bins_too) {
+    for (int bin = 0; bin < theta_bins_; ++bin)
+      std::fill_n(&bins_[bin * plane_ + first], cells, 0);
   }
   std::fill_n(&missed_bins_[first], cells, 0);
   std::fill_n(&hit_since_tick_[first], cells, 0);
@@ -224,10 +238,31 @@ void ReflectanceField::clearTileStorage(const TileIndex& tile) {
 }
 
 void ReflectanceField::rebuildSummaries(const TileIndex& tile) {
-  const int cells = window_.tileCells() * window_.tileCells();
-  const int first = window_.tileFirstSlot(tile);
-  for (int slot = first; slot < first + cells; ++slot)
-    rebuildCellSummary(slot);
+  // Slice by slice over the tile's contiguous cells (cell by cell would stride across slices).
+  const size_t cells = static_cast<size_t>(window_.tileCells()) * window_.tileCells();
+  const size_t first = window_.tileFirstSlot(tile);
+  uint64_t* const masks = &reflective_masks_[first * mask_words_];
+  std::fill_n(masks, cells * mask_words_, 0);
+  std::vector<uint16_t> reflective(cells, 0), missed(cells, 0);
+  for (int bin = 0; bin < theta_bins_; ++bin) {
+    const int8_t* values = &bins_[bin * plane_ + first];
+    const int word = bin >> 6, shift = bin & 63;
+    for (size_t c = 0; c < cells; ++c) {
+      const bool is_reflective = values[c] > 0;
+      reflective[c] += is_reflective;
+      missed[c] += values[c] < 0;
+      masks[c * mask_words_ + word] |= static_cast<uint64_t>(is_reflective) << shift;
+    }
+  }
+  int reflective_cells = 0;
+  for (size_t c = 0; c < cells; ++c) {
+    reflective_bins_[first + c] = reflective[c];
+    missed_bins_[first + c] = missed[c];
+    reflective_cells += reflective[c] != 0;
+  }
+  const int storage_tile = window_.storageTile(tile);
+  tile_reflective_cells_[storage_tile] = reflective_cells;
+  ++tile_versions_[storage_tile];
 }
 
 void ReflectanceField::rebuildCellSummary(int storage_index) {
@@ -288,10 +323,9 @@ void ReflectanceField::write(std::ostream& out) const {
   if (centred_) {
     std::vector<int8_t> bins;
     for (const TileIndex& tile : window_.tiles()) {
+      if (!tileHoldsEvidence(tile)) continue;
       gatherTile(tile, bins);
-      if (std::any_of(bins.begin(), bins.end(), [](int8_t v) { return v != 0; })) {
-        all.store(tile, compressBins(bins.data(), bins.size()));
-      }
+      all.store(tile, compressBins(bins.data(), bins.size()));
     }
   }
   all.write(out);

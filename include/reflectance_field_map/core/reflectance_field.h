@@ -232,7 +232,10 @@ class ReflectanceField {
   void revertAt(int storage_index, int bin, int step);
   void archiveTiles(const std::vector<TileIndex>& tiles, ParallelRunner* runner);
   void restoreTiles(const std::vector<TileIndex>& tiles, ParallelRunner* runner);
-  void clearTileStorage(const TileIndex& tile);
+  bool tileHoldsEvidence(const TileIndex& tile) const;
+  // Clears the tile's cell summaries, and its bins too unless they are known to be clear.
+  void clearTileStorage(const TileIndex& tile, bool bins_too);
+  // Recomputes the summaries of a tile just restored into storage (cleared before).
   void rebuildSummaries(const TileIndex& tile);
   void rebuildCellSummary(int storage_index);
   void gatherTile(const TileIndex& tile, std::vector<int8_t>& bins) const;
