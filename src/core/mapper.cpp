@@ -30,6 +30,19 @@ int unitsIn(double value, double unit) {
   return static_cast<int>(std::ceil(value / unit - 1e-9));
 }
 
+AnchorRules anchorRules(const MapperOptions& options, const GridGeometry& geometry) {
+  const MotionRemovalOptions& motion = options.motion_removal;
+  const double tick = 1.0 / motion.motion_removal_rate;
+  AnchorRules rules;
+  rules.persistence_ticks = unitsIn(motion.persistence_time, tick);
+  rules.persistence_min_cells = unitsIn(motion.persistence_min_length, options.grid.resolution);
+  rules.departure_min_bins = unitsIn(motion.departure_min_angle, geometry.binWidth());
+  rules.departure_vacant_ticks = unitsIn(motion.departure_vacant_time, tick);
+  rules.opaque_min_bins = unitsIn(motion.opaque_min_angle, geometry.binWidth());
+  rules.opaque_min_cells = unitsIn(motion.opaque_min_length, options.grid.resolution);
+  return rules;
+}
+
 }  // namespace
 
 // A scan as inserted, kept for online re-processing when new glass appears.
@@ -43,19 +56,19 @@ struct BufferedScan {
 struct Mapper::Impl {
   Impl(const MapperOptions& options, const ReflectanceField& field)
       : rule(options.occupancy, field.geometry().binWidth()),
-        remover(rule,
-                unitsIn(options.motion_removal.persistence_time,
-                        1.0 / options.motion_removal.motion_removal_rate),
-                unitsIn(options.motion_removal.persistence_min_length, options.grid.resolution),
-                unitsIn(options.motion_removal.departure_min_angle, field.geometry().binWidth())),
+        remover(rule, anchorRules(options, field.geometry())),
         runner(std::make_shared<ParallelRunner>(options.insertion.insertion_threads)),
         inserter(runner),
         classes(static_cast<size_t>(field.window().sizeCells()) * field.window().sizeCells(),
-                CellClass::kUnknown),
-        remembered_min_bins(
-            options.motion_removal.departure_min_angle > 0.0
-                ? rule.minWidelyVisibleBins(field.logOdds(), field.geometry().thetaBins())
-                : std::numeric_limits<int>::max()) {}
+                CellClass::kUnknown) {
+    // Departures read the history of the cells that could anchor: widely visible ones (no
+    // fewer bins can be) and those confirmed for the persistence time.
+    const AnchorRules anchors = anchorRules(options, field.geometry());
+    if (anchors.departure_min_bins > 0 || anchors.departure_vacant_ticks > 0) {
+      remembered_min_bins = rule.minWidelyVisibleBins(field.logOdds(), field.geometry().thetaBins());
+      if (anchors.persistence_ticks > 0) remembered_min_ticks = anchors.persistence_ticks;
+    }
+  }
 
   OccupancyRule rule;
   MotionRemover remover;
@@ -74,8 +87,9 @@ struct Mapper::Impl {
   std::vector<std::vector<Ray>> pending;  // addScans: prepared, not yet inserted
   std::vector<CellClass> box_classes;
   MapperStats stats;
-  // Cells with fewer reflective bins cannot be widely visible: no history (departures) for them.
-  int remembered_min_bins;
+  // Cells with a departure history (ReflectanceField::tickPersistence); max: none.
+  int remembered_min_bins = std::numeric_limits<int>::max();
+  int remembered_min_ticks = std::numeric_limits<int>::max();
 };
 
 Mapper::Mapper(const MapperOptions& options)
@@ -194,7 +208,7 @@ bool Mapper::tickDue(double stamp) const {
 
 void Mapper::tickPersistenceIfDue(double stamp) {
   if (tickDue(stamp)) {
-    field_.tickPersistence(impl_->remembered_min_bins);
+    field_.tickPersistence(impl_->remembered_min_bins, impl_->remembered_min_ticks);
     impl_->last_tick_stamp = stamp;
   } else if (impl_->stats.scans_processed == 0 || stamp < impl_->last_tick_stamp) {
     impl_->last_tick_stamp = stamp;  // first scan, or time went back

@@ -121,8 +121,9 @@ void MotionRemover::unite(uint32_t a, uint32_t b) {
   if (rank_[a] < rank_[b]) std::swap(a, b);
   parent_[b] = a;
   anchored_[a] |= anchored_[b];
-  if (persistence_min_cells_ > 0) {
+  if (tracksExtents()) {
     persistent_[a] |= persistent_[b];
+    opaque_[a] |= opaque_[b];
     Extent& e = extent_[a];
     const Extent& f = extent_[b];
     e = {std::min(e.min_x, f.min_x), std::min(e.min_y, f.min_y), std::max(e.max_x, f.max_x),
@@ -187,19 +188,27 @@ void MotionRemover::joinBand(const ReflectanceField& field, const CellBox& box, 
         reflective += runs_[r].length;
       const int slot = slots_[local];
       const bool visible = widelyVisible(field, slot, reflective);
-      const bool confirmed =
-          persistence_ticks_ > 0 && field.confirmedTicksAt(slot) >= persistence_ticks_;
+      const bool confirmed = anchors_.persistence_ticks > 0 &&
+                             field.confirmedTicksAt(slot) >= anchors_.persistence_ticks;
       // Only a would-be anchor needs its history read.
-      const bool departed = (visible || confirmed) && departure_min_bins_ > 0 &&
-                            field.contradictedBinsAt(slot) >= departure_min_bins_;
+      const bool departed =
+          (visible || confirmed) &&
+          ((anchors_.departure_min_bins > 0 &&
+            field.contradictedBinsAt(slot) >= anchors_.departure_min_bins) ||
+           (anchors_.departure_vacant_ticks > 0 &&
+            field.vacantTicksAt(slot) >= anchors_.departure_vacant_ticks));
       const bool anchor = visible && !departed;
       widely_visible_[local] = anchor;
       const bool persistent = confirmed && !departed;
-      if (persistent && persistence_min_cells_ > 0) {
-        for (uint32_t r = first; r < last; ++r)
-          persistent_[find(r)] = 1;  // anchors only if the component proves long enough
+      const bool opaque = anchors_.opaque_min_bins > 0 && reflective >= anchors_.opaque_min_bins &&
+                          field.missedBinsAt(slot) == 0;
+      bool seeded = anchor || (persistent && anchors_.persistence_min_cells == 0) ||
+                    (opaque && anchors_.opaque_min_cells == 0);
+      // The rules with a minimum length anchor once the component proves long enough.
+      for (uint32_t r = first; r < last && tracksExtents(); ++r) {
+        persistent_[find(r)] |= persistent;
+        opaque_[find(r)] |= opaque;
       }
-      bool seeded = anchor || (persistent && persistence_min_cells_ == 0);
       // Known obstacles just outside the box seed components crossing its border.
       if (!seeded &&
           (x == box.min.x() || y == box.min.y() || x == box.max.x() - 1 || y == box.max.y() - 1)) {
@@ -238,9 +247,10 @@ void MotionRemover::joinRows(const CellBox& box, int row, int bins) {
   }
 }
 
-bool MotionRemover::longEnough(uint32_t root) const {
+bool MotionRemover::spansAtLeast(uint32_t root, int min_cells) const {
+  if (min_cells == 0) return true;
   const Extent& e = extent_[root];
-  return std::max(e.max_x - e.min_x, e.max_y - e.min_y) + 1 >= persistence_min_cells_;
+  return std::max(e.max_x - e.min_x, e.max_y - e.min_y) + 1 >= min_cells;
 }
 
 void MotionRemover::classifyBand(const ReflectanceField& field, const CellBox& box,
@@ -277,7 +287,10 @@ void MotionRemover::classifyBand(const ReflectanceField& field, const CellBox& b
           for (uint32_t r = first; r < last; ++r) {
             reflective += runs_[r].length;
             widest = std::max<int>(widest, runs_[r].length);
-            anchored |= anchored_[root_[r]] != 0 || (persistent_[root_[r]] && longEnough(root_[r]));
+            const uint32_t root = root_[r];
+            anchored |= anchored_[root] != 0 ||
+                        (persistent_[root] && spansAtLeast(root, anchors_.persistence_min_cells)) ||
+                        (opaque_[root] && spansAtLeast(root, anchors_.opaque_min_cells));
           }
           CellClass& c = classes[local];
           c = rule_.classify(reflective, field.missedBinsAt(slots_[local]));
@@ -331,8 +344,8 @@ MotionRemovalCounts MotionRemover::classify(
   rank_.assign(runs_.size(), 0);
   anchored_.assign(runs_.size(), 0);
   persistent_.assign(runs_.size(), 0);
-  // Component lengths matter only to the persistence rule with a minimum length.
-  extent_.resize(persistence_min_cells_ > 0 ? runs_.size() : 0);
+  opaque_.assign(runs_.size(), 0);
+  extent_.resize(tracksExtents() ? runs_.size() : 0);
   forEachBand([&](int p) {
     std::copy(band_runs_[p].begin(), band_runs_[p].end(), runs_.begin() + band_offset[p]);
     const size_t begin = static_cast<size_t>(bands[p].first_row) * box.width();
@@ -344,7 +357,7 @@ MotionRemovalCounts MotionRemover::classify(
       const uint32_t last = local + 1 < end ? cell_first_run_[local + 1]
                                             : static_cast<uint32_t>(band_runs_[p].size());
       cell_first_run_[local] = first + offset;
-      if (first == last || persistence_min_cells_ == 0) continue;
+      if (first == last || !tracksExtents()) continue;
       const auto col = static_cast<int16_t>(local % box.width());
       const auto row = static_cast<int16_t>(local / box.width());
       for (uint32_t r = first + offset; r < last + offset; ++r)

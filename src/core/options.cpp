@@ -65,6 +65,9 @@ void MotionRemovalOptions::validate() const {
   requireRange("persistence_time", persistence_time, 0.0, 1e6);
   requireRange("persistence_min_length", persistence_min_length, 0.0, 100.0);
   requireRange("departure_min_angle", departure_min_angle, 0.0, kTwoPi);
+  requireRange("departure_vacant_time", departure_vacant_time, 0.0, 1e6);
+  requireRange("opaque_min_angle", opaque_min_angle, 0.0, kTwoPi);
+  requireRange("opaque_min_length", opaque_min_length, 0.0, 100.0);
 }
 
 void ReflectionRemovalOptions::validate() const {
@@ -174,6 +177,22 @@ const std::vector<FieldAccess>& accessTable() {
         "seen through over this much of its former reflective angle: anchors no more (rad, 0 off)",
         T::kDouble},
        [](MapperOptions& o) -> double& { return o.motion_removal.departure_min_angle; },
+       {},
+       {}},
+      {{"departure_vacant_time",
+        "seen through in new directions, never hit, this long: anchors no more (s, 0 off)",
+        T::kDouble},
+       [](MapperOptions& o) -> double& { return o.motion_removal.departure_vacant_time; },
+       {},
+       {}},
+      {{"opaque_min_angle", "reflective this wide and never seen through anchors (rad, 0 off)",
+        T::kDouble},
+       [](MapperOptions& o) -> double& { return o.motion_removal.opaque_min_angle; },
+       {},
+       {}},
+      {{"opaque_min_length", "never-seen-through cells anchor components this long (m)",
+        T::kDouble},
+       [](MapperOptions& o) -> double& { return o.motion_removal.opaque_min_length; },
        {},
        {}},
       {{"reflection_removal_enabled", "run Alg. 3", T::kBool},

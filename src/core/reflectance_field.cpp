@@ -157,10 +157,15 @@ size_t ReflectanceField::activeBytes() const {
 }
 
 size_t ReflectanceField::historyBytes() const {
-  // Per entry: the mask words, the vector and key, a hash node and its bucket pointer.
-  const size_t entry = mask_words_ * sizeof(uint64_t) + sizeof(std::vector<uint64_t>) +
-                       sizeof(int) + 2 * sizeof(void*) + sizeof(void*);
+  // Per entry: the mask words, the history and key, a hash node and its bucket pointer.
+  const size_t entry = mask_words_ * sizeof(uint64_t) + sizeof(CellHistory) + sizeof(int) +
+                       2 * sizeof(void*) + sizeof(void*);
   return reflective_history_.size() * entry;
+}
+
+int ReflectanceField::vacantTicksAt(int storage_index) const {
+  const auto it = reflective_history_.find(storage_index);
+  return it == reflective_history_.end() ? 0 : it->second.vacant_ticks;
 }
 
 int ReflectanceField::contradictedBinsAt(int storage_index) const {
@@ -170,7 +175,7 @@ int ReflectanceField::contradictedBinsAt(int storage_index) const {
   const int confidently_missed = log_odds_.minValue() / 2;
   int count = 0;
   for (int w = 0; w < mask_words_; ++w) {
-    for (uint64_t word = it->second[w]; word != 0; word &= word - 1) {
+    for (uint64_t word = it->second.bins[w]; word != 0; word &= word - 1) {
       const int bin = 64 * w + __builtin_ctzll(word);
       count += bins_[static_cast<size_t>(bin) * plane_ + storage_index] <= confidently_missed;
     }
@@ -282,14 +287,25 @@ void ReflectanceField::rebuildCellSummary(int storage_index) {
   ++tile_versions_[tile];
 }
 
-void ReflectanceField::tickPersistence(int remembered_min_bins) {
+void ReflectanceField::tickPersistence(int remembered_min_bins, int remembered_min_ticks) {
+  // Vacancy first: it reads the hits since the last tick, which the loop below clears.
+  for (auto& [slot, history] : reflective_history_) {
+    if (hit_since_tick_[slot]) {
+      history.vacant_ticks = 0;
+    } else if (missed_bins_[slot] > history.missed_at_tick && history.vacant_ticks < 255) {
+      ++history.vacant_ticks;
+    }
+    history.missed_at_tick = missed_bins_[slot];
+  }
   for (size_t index = 0; index < plane_; ++index) {
-    if (reflective_bins_[index] >= remembered_min_bins) {
-      std::vector<uint64_t>& history = reflective_history_[static_cast<int>(index)];
-      history.resize(mask_words_, 0);
+    if (reflective_bins_[index] >= remembered_min_bins ||
+        confirmed_ticks_[index] >= remembered_min_ticks) {
+      CellHistory& history = reflective_history_[static_cast<int>(index)];
+      if (history.bins.empty()) history.missed_at_tick = missed_bins_[index];
+      history.bins.resize(mask_words_, 0);
       const uint64_t* mask = &reflective_masks_[index * mask_words_];
       for (int w = 0; w < mask_words_; ++w)
-        history[w] |= mask[w];
+        history.bins[w] |= mask[w];
     }
     uint8_t& ticks = confirmed_ticks_[index];
     if (!reflective_bins_[index]) {

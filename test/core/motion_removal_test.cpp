@@ -181,6 +181,71 @@ TEST(MotionRemover, DepartedCellsAnchorNothing) {
   EXPECT_EQ(classes[local], CellClass::kStatic);
 }
 
+// A person seen from all around while standing still, then seen through only from directions
+// they were never seen from (the robot looking back after they left): vacant, anchors nothing.
+TEST(MotionRemover, VacantCellsAnchorNothing) {
+  DirectField f;
+  const CellIndex spot(-5, 3);
+  for (int bin = 0; bin < 120; ++bin)
+    f.hit(spot, bin);
+  f.field.tickPersistence(/*remembered_min_bins=*/1);
+  for (int tick = 0; tick < 2; ++tick) {
+    for (int bin = 150 + 5 * tick; bin < 155 + 5 * tick; ++bin)
+      f.field.applyMiss(spot, bin);
+    f.field.tickPersistence(1);
+  }
+  ASSERT_EQ(f.field.vacantTicksAt(f.field.window().storageIndex(spot)), 2);
+  const OccupancyRule rule(OccupancyOptions(), f.field.geometry().binWidth());
+  const CellBox box = f.field.activeBox();
+  const size_t local =
+      static_cast<size_t>(spot.y() - box.min.y()) * box.width() + (spot.x() - box.min.x());
+  auto outside = [](const CellIndex&) { return CellClass::kUnknown; };
+  auto class_with = [&](int vacant_ticks) {
+    AnchorRules anchors;
+    anchors.departure_vacant_ticks = vacant_ticks;
+    std::vector<CellClass> classes;
+    MotionRemover(rule, anchors).classify(f.field, box, outside, classes);
+    return classes[local];
+  };
+  EXPECT_EQ(class_with(0), CellClass::kStatic);
+  EXPECT_EQ(class_with(2), CellClass::kMotion);
+  EXPECT_EQ(class_with(3), CellClass::kStatic);
+}
+
+// A wall glimpsed through a doorway: each cell reflective in a few bins, never seen through.
+// It anchors itself when long enough; a person's short stroke does not, nor does a wall whose
+// cells were seen through.
+TEST(MotionRemover, NeverSeenThroughCellsAnchorLongComponents) {
+  DirectField f;
+  for (int y = -10; y < 10; ++y) {
+    for (int bin = 40; bin < 43; ++bin) {
+      f.hit({8, y}, bin);     // 1 m of wall
+      f.hit({-8, y}, bin);    // 1 m of wall, seen through once per cell as well
+      if (y < -6) f.hit({0, y}, bin);  // 0.15 m of person
+    }
+    f.field.applyMiss({-8, y}, 100);
+  }
+  const OccupancyRule rule(OccupancyOptions(), f.field.geometry().binWidth());
+  const CellBox box = f.field.activeBox();
+  auto outside = [](const CellIndex&) { return CellClass::kUnknown; };
+  auto classes_with = [&](int min_bins, int min_cells) {
+    AnchorRules anchors;
+    anchors.opaque_min_bins = min_bins;
+    anchors.opaque_min_cells = min_cells;
+    std::vector<CellClass> classes;
+    MotionRemover(rule, anchors).classify(f.field, box, outside, classes);
+    auto at = [&](const CellIndex& c) {
+      return classes[static_cast<size_t>(c.y() - box.min.y()) * box.width() + c.x() - box.min.x()];
+    };
+    return std::vector<CellClass>{at({8, 0}), at({-8, 0}), at({0, -8})};
+  };
+  using C = CellClass;
+  EXPECT_EQ(classes_with(0, 0), (std::vector<C>{C::kMotion, C::kMotion, C::kMotion}));
+  EXPECT_EQ(classes_with(3, 12), (std::vector<C>{C::kGlass, C::kMotion, C::kMotion}));
+  EXPECT_EQ(classes_with(3, 0), (std::vector<C>{C::kGlass, C::kMotion, C::kGlass}));
+  EXPECT_EQ(classes_with(4, 12), (std::vector<C>{C::kMotion, C::kMotion, C::kMotion}));
+}
+
 TEST(MotionRemover, KnownObstaclesOutsideTheBoxSeedComponents) {
   DirectField f;
   const CellBox box = f.field.activeBox();

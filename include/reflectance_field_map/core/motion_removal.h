@@ -27,20 +27,38 @@ struct MotionRemovalCounts {
 // just outside the box, or a long-lived cell when the component is long enough, is a static
 // structure: its cells are static (widely visible) or glass/metal; any other component is
 // motion. Cells seen through where they used to reflect (a departure) anchor nothing.
+// How the anchors of Alg. 2 are extended beyond the paper's widely visible cells, in the units
+// the field counts in (ticks of the persistence clock, cells, theta bins). 0 switches a rule off.
+struct AnchorRules {
+  // Cells confirmed for this many persistence ticks anchor their component too
+  // (ReflectanceField::confirmedTicksAt): a sensor that does not move sees walls from one side.
+  int persistence_ticks = 0;
+  // ... but only components at least this long (bounding box side, in cells): a person
+  // standing still is smaller than structure.
+  int persistence_min_cells = 0;
+  // Widely visible or confirmed cells with this many contradicted bins
+  // (ReflectanceField::contradictedBinsAt) anchor nothing: what stood there has left.
+  int departure_min_bins = 0;
+  // Nor do those vacant for this many ticks (ReflectanceField::vacantTicksAt): seen through
+  // from new directions and hit by nothing, as when the robot looks back at where a person
+  // stood from directions it never saw them from.
+  int departure_vacant_ticks = 0;
+  // Cells reflective in at least this many bins and never seen through (no missed bin) anchor
+  // components at least `opaque_min_cells` long: an opaque surface glimpsed through a doorway
+  // is neither widely visible nor long confirmed, but nothing ever passed through it.
+  int opaque_min_bins = 0;
+  int opaque_min_cells = 0;
+};
+
 class MotionRemover {
  public:
-  // `persistence_ticks` > 0: cells confirmed for that many persistence ticks anchor their
-  // component too (ReflectanceField::confirmedTicks).
-  // With `persistence_min_cells` > 0 such cells anchor only components at least that long
-  // (bounding box side, in cells): a person standing still is smaller than structure.
-  // With `departure_min_bins` > 0, cells with that many contradicted bins
-  // (ReflectanceField::contradictedBinsAt) anchor nothing: what stood there has left.
-  explicit MotionRemover(const OccupancyRule& rule, int persistence_ticks = 0,
-                         int persistence_min_cells = 0, int departure_min_bins = 0)
-      : rule_(rule),
-        persistence_ticks_(persistence_ticks),
-        persistence_min_cells_(persistence_min_cells),
-        departure_min_bins_(departure_min_bins) {}
+  explicit MotionRemover(const OccupancyRule& rule, const AnchorRules& anchors = AnchorRules())
+      : rule_(rule), anchors_(anchors) {}
+  // The first three rules alone (see AnchorRules).
+  MotionRemover(const OccupancyRule& rule, int persistence_ticks, int persistence_min_cells = 0,
+                int departure_min_bins = 0)
+      : MotionRemover(rule, AnchorRules{persistence_ticks, persistence_min_cells,
+                                        departure_min_bins, 0, 0, 0}) {}
 
   // Classifies every cell of `box` (inside the field's active window) into `classes`
   // (row-major, x fastest). `outside` gives the known class of cells just outside the box and
@@ -82,7 +100,8 @@ class MotionRemover {
   void uniteNeighbour(size_t local, size_t n_local, int bins);
   void classifyBand(const ReflectanceField& field, const CellBox& box, const Band& band,
                     std::vector<CellClass>& classes, MotionRemovalCounts& counts) const;
-  bool longEnough(uint32_t root) const;
+  // Whether the component of `root` spans at least `min_cells` (0: any size).
+  bool spansAtLeast(uint32_t root, int min_cells) const;
   uint32_t find(uint32_t node);
   void unite(uint32_t a, uint32_t b);
   bool widelyVisible(const ReflectanceField& field, int slot, int reflective_bins) const;
@@ -93,10 +112,14 @@ class MotionRemover {
            (floorDiv(x, tile_cells_) - first_tile_.x());
   }
 
+  // Component extents are needed only by the rules with a minimum length.
+  bool tracksExtents() const {
+    return anchors_.persistence_min_cells > 0 ||
+           (anchors_.opaque_min_bins > 0 && anchors_.opaque_min_cells > 0);
+  }
+
   OccupancyRule rule_;
-  int persistence_ticks_;
-  int persistence_min_cells_;
-  int departure_min_bins_;
+  AnchorRules anchors_;
   int min_widely_visible_bins_ = 0;  // of the field being classified (OccupancyRule)
   std::vector<Run> runs_;
   std::vector<std::vector<Run>> band_runs_;  // per band, before joining into runs_
@@ -106,6 +129,7 @@ class MotionRemover {
   std::vector<uint8_t> rank_;
   std::vector<uint8_t> anchored_;    // per root: touches a widely visible or known static cell
   std::vector<uint8_t> persistent_;  // per root: holds a long-confirmed cell
+  std::vector<uint8_t> opaque_;      // per root: holds a never-seen-through cell
   struct Extent {
     int16_t min_x, min_y, max_x, max_y;  // box-local cells
   };

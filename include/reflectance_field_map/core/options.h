@@ -81,6 +81,16 @@ struct MotionRemovalOptions {
   // seen through from a direction it reflects in; glass reflects only where it is not seen
   // through. rad, 0 disables.
   double departure_min_angle = 0.10471975511965977;  // 6 deg: 3 bins at the default 2 deg
+  // Such a cell also stops anchoring after this long seen through in new directions without
+  // being hit once (checked at persistence ticks): the robot looking back, from directions it
+  // never saw them from, at where a person stood. Structure seen at all is hit. s, 0 disables.
+  double departure_vacant_time = 1.0;
+  // A cell reflective over at least this angle that no ray ever passed through anchors its
+  // component when the component is at least `opaque_min_length` long: a wall glimpsed through
+  // a doorway is neither widely visible nor long confirmed, but is never seen through, while a
+  // person walking by is soon seen through where they were. rad, 0 disables.
+  double opaque_min_angle = 0.10471975511965977;  // 6 deg
+  double opaque_min_length = 1.0;                 // m, longer bounding-box side; 0: any size
   void validate() const;
 };
 

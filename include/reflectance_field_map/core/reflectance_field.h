@@ -178,14 +178,22 @@ class ReflectanceField {
   // again between ticks, saturating at 255, and resets when it stops being reflective.
   // Long-confirmed evidence is structure even when seen from a single place; evidence that is
   // merely never contradicted does not count.
-  // Cells with at least `remembered_min_bins` reflective bins also add them to their history
-  // (see contradictedBinsAt): fewer bins can never be widely visible, so they are not kept.
-  void tickPersistence(int remembered_min_bins = std::numeric_limits<int>::max());
+  // Cells with at least `remembered_min_bins` reflective bins, or confirmed for at least
+  // `remembered_min_ticks` ticks, get a history (the cells that could anchor structure): their
+  // reflective bins are added to it (see contradictedBinsAt), and from then on every tick
+  // updates their vacancy (see vacantTicksAt). Histories are dropped with archived tiles.
+  void tickPersistence(int remembered_min_bins = std::numeric_limits<int>::max(),
+                       int remembered_min_ticks = std::numeric_limits<int>::max());
   // Bins of the cell that were reflective at a persistence tick and are now missed with at least
   // half the clamp's confidence: something that was seen there is gone (a person who stood
   // still, then left). 0 for cells without history. Static structure, opaque, is not seen through
   // from a direction it reflected in.
   int contradictedBinsAt(int storage_index) const;
+  // Consecutive ticks, up to the last, over which the cell got new missed bins and no hit: it is
+  // seen through from new directions and nothing there reflects any more (a person who stood
+  // still seen from elsewhere after leaving). A hit resets it: structure in view is hit, even
+  // where grazing rays pass through its cell. 0 for cells without history.
+  int vacantTicksAt(int storage_index) const;
 
   // Per storage tile (window().tileSlotShift()): how many cells have a reflective bin, and a
   // version that changes whenever a cell summary of the tile (mask, reflective or missed count)
@@ -268,7 +276,12 @@ class ReflectanceField {
   };
   Identity identity_;
   // Sparse (only cells that could be widely visible): bins reflective at some tick.
-  std::unordered_map<int, std::vector<uint64_t>> reflective_history_;  // by storage index
+  struct CellHistory {
+    std::vector<uint64_t> bins;   // reflective at a tick (mask words)
+    uint16_t missed_at_tick = 0;  // missed bins at the last tick
+    uint8_t vacant_ticks = 0;
+  };
+  std::unordered_map<int, CellHistory> reflective_history_;  // by storage index
   TileArchive archive_;
 };
 
