@@ -65,7 +65,8 @@ struct Mapper::Impl {
     // fewer bins can be) and those confirmed for the persistence time.
     const AnchorRules anchors = anchorRules(options, field.geometry());
     if (anchors.departure_min_bins > 0 || anchors.departure_vacant_ticks > 0) {
-      remembered_min_bins = rule.minWidelyVisibleBins(field.logOdds(), field.geometry().thetaBins());
+      remembered_min_bins =
+          rule.minWidelyVisibleBins(field.logOdds(), field.geometry().thetaBins());
       if (anchors.persistence_ticks > 0) remembered_min_ticks = anchors.persistence_ticks;
     }
   }

@@ -191,12 +191,11 @@ void MotionRemover::joinBand(const ReflectanceField& field, const CellBox& box, 
       const bool confirmed = anchors_.persistence_ticks > 0 &&
                              field.confirmedTicksAt(slot) >= anchors_.persistence_ticks;
       // Only a would-be anchor needs its history read.
-      const bool departed =
-          (visible || confirmed) &&
-          ((anchors_.departure_min_bins > 0 &&
-            field.contradictedBinsAt(slot) >= anchors_.departure_min_bins) ||
-           (anchors_.departure_vacant_ticks > 0 &&
-            field.vacantTicksAt(slot) >= anchors_.departure_vacant_ticks));
+      const bool departed = (visible || confirmed) &&
+                            ((anchors_.departure_min_bins > 0 &&
+                              field.contradictedBinsAt(slot) >= anchors_.departure_min_bins) ||
+                             (anchors_.departure_vacant_ticks > 0 &&
+                              field.vacantTicksAt(slot) >= anchors_.departure_vacant_ticks));
       const bool anchor = visible && !departed;
       widely_visible_[local] = anchor;
       const bool persistent = confirmed && !departed;

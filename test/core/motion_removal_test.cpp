@@ -219,8 +219,8 @@ TEST(MotionRemover, NeverSeenThroughCellsAnchorLongComponents) {
   DirectField f;
   for (int y = -10; y < 10; ++y) {
     for (int bin = 40; bin < 43; ++bin) {
-      f.hit({8, y}, bin);     // 1 m of wall
-      f.hit({-8, y}, bin);    // 1 m of wall, seen through once per cell as well
+      f.hit({8, y}, bin);              // 1 m of wall
+      f.hit({-8, y}, bin);             // 1 m of wall, seen through once per cell as well
       if (y < -6) f.hit({0, y}, bin);  // 0.15 m of person
     }
     f.field.applyMiss({-8, y}, 100);
