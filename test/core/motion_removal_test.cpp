@@ -36,8 +36,8 @@ struct DirectField {
     for (int i = 0; i < times; ++i)
       field.applyHit(cell, bin);
   }
-  CellClass classify(const CellIndex& cell) {
-    MotionRemover remover(OccupancyRule(OccupancyOptions(), field.geometry().binWidth()));
+  CellClass classify(const CellIndex& cell, const AnchorRules& anchors = AnchorRules()) {
+    MotionRemover remover(OccupancyRule(OccupancyOptions(), field.geometry().binWidth()), anchors);
     std::vector<CellClass> classes;
     const CellBox box = field.activeBox();
     remover.classify(
@@ -195,17 +195,10 @@ TEST(MotionRemover, VacantCellsAnchorNothing) {
     f.field.tickPersistence(1);
   }
   ASSERT_EQ(f.field.vacantTicksAt(f.field.window().storageIndex(spot)), 2);
-  const OccupancyRule rule(OccupancyOptions(), f.field.geometry().binWidth());
-  const CellBox box = f.field.activeBox();
-  const size_t local =
-      static_cast<size_t>(spot.y() - box.min.y()) * box.width() + (spot.x() - box.min.x());
-  auto outside = [](const CellIndex&) { return CellClass::kUnknown; };
   auto class_with = [&](int vacant_ticks) {
     AnchorRules anchors;
     anchors.departure_vacant_ticks = vacant_ticks;
-    std::vector<CellClass> classes;
-    MotionRemover(rule, anchors).classify(f.field, box, outside, classes);
-    return classes[local];
+    return f.classify(spot, anchors);
   };
   EXPECT_EQ(class_with(0), CellClass::kStatic);
   EXPECT_EQ(class_with(2), CellClass::kMotion);
@@ -225,19 +218,12 @@ TEST(MotionRemover, NeverSeenThroughCellsAnchorLongComponents) {
     }
     f.field.applyMiss({-8, y}, 100);
   }
-  const OccupancyRule rule(OccupancyOptions(), f.field.geometry().binWidth());
-  const CellBox box = f.field.activeBox();
-  auto outside = [](const CellIndex&) { return CellClass::kUnknown; };
   auto classes_with = [&](int min_bins, int min_cells) {
     AnchorRules anchors;
     anchors.opaque_min_bins = min_bins;
     anchors.opaque_min_cells = min_cells;
-    std::vector<CellClass> classes;
-    MotionRemover(rule, anchors).classify(f.field, box, outside, classes);
-    auto at = [&](const CellIndex& c) {
-      return classes[static_cast<size_t>(c.y() - box.min.y()) * box.width() + c.x() - box.min.x()];
-    };
-    return std::vector<CellClass>{at({8, 0}), at({-8, 0}), at({0, -8})};
+    return std::vector<CellClass>{f.classify({8, 0}, anchors), f.classify({-8, 0}, anchors),
+                                  f.classify({0, -8}, anchors)};
   };
   using C = CellClass;
   EXPECT_EQ(classes_with(0, 0), (std::vector<C>{C::kMotion, C::kMotion, C::kMotion}));
