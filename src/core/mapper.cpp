@@ -61,13 +61,13 @@ struct Mapper::Impl {
         inserter(runner),
         classes(static_cast<size_t>(field.window().sizeCells()) * field.window().sizeCells(),
                 CellClass::kUnknown) {
-    // Departures read the history of the cells that could anchor: widely visible ones (no
-    // fewer bins can be) and those confirmed for the persistence time.
+    // Departures read the history of the cells that could be widely visible (no fewer bins
+    // can be). Not of cells merely confirmed for the persistence time: glass confirmed that way
+    // is seen through in its jittered lobe's edge bins later, which reads as a departure.
     const AnchorRules anchors = anchorRules(options, field.geometry());
     if (anchors.departure_min_bins > 0 || anchors.departure_vacant_ticks > 0) {
       remembered_min_bins =
           rule.minWidelyVisibleBins(field.logOdds(), field.geometry().thetaBins());
-      if (anchors.persistence_ticks > 0) remembered_min_ticks = anchors.persistence_ticks;
     }
   }
 
@@ -90,7 +90,6 @@ struct Mapper::Impl {
   MapperStats stats;
   // Cells with a departure history (ReflectanceField::tickPersistence); max: none.
   int remembered_min_bins = std::numeric_limits<int>::max();
-  int remembered_min_ticks = std::numeric_limits<int>::max();
 };
 
 Mapper::Mapper(const MapperOptions& options)
@@ -209,7 +208,7 @@ bool Mapper::tickDue(double stamp) const {
 
 void Mapper::tickPersistenceIfDue(double stamp) {
   if (tickDue(stamp)) {
-    field_.tickPersistence(impl_->remembered_min_bins, impl_->remembered_min_ticks);
+    field_.tickPersistence(impl_->remembered_min_bins);
     impl_->last_tick_stamp = stamp;
   } else if (impl_->stats.scans_processed == 0 || stamp < impl_->last_tick_stamp) {
     impl_->last_tick_stamp = stamp;  // first scan, or time went back
