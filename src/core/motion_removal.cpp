@@ -204,9 +204,12 @@ void MotionRemover::joinBand(const ReflectanceField& field, const CellBox& box, 
       bool seeded = anchor || (persistent && anchors_.persistence_min_cells == 0) ||
                     (opaque && anchors_.opaque_min_cells == 0);
       // The rules with a minimum length anchor once the component proves long enough.
-      for (uint32_t r = first; r < last && tracksExtents(); ++r) {
-        persistent_[find(r)] |= persistent;
-        opaque_[find(r)] |= opaque;
+      if (tracksExtents() && (persistent || opaque)) {
+        for (uint32_t r = first; r < last; ++r) {
+          const uint32_t root = find(r);
+          persistent_[root] |= persistent;
+          opaque_[root] |= opaque;
+        }
       }
       // Known obstacles just outside the box seed components crossing its border.
       if (!seeded &&

@@ -287,7 +287,7 @@ void ReflectanceField::rebuildCellSummary(int storage_index) {
   ++tile_versions_[tile];
 }
 
-void ReflectanceField::tickPersistence(int remembered_min_bins, int remembered_min_ticks) {
+void ReflectanceField::tickPersistence(int remembered_min_bins) {
   // Vacancy first: it reads the hits since the last tick, which the loop below clears.
   for (auto& [slot, history] : reflective_history_) {
     if (hit_since_tick_[slot]) {
@@ -298,8 +298,7 @@ void ReflectanceField::tickPersistence(int remembered_min_bins, int remembered_m
     history.missed_at_tick = missed_bins_[slot];
   }
   for (size_t index = 0; index < plane_; ++index) {
-    if (reflective_bins_[index] >= remembered_min_bins ||
-        confirmed_ticks_[index] >= remembered_min_ticks) {
+    if (reflective_bins_[index] >= remembered_min_bins) {
       CellHistory& history = reflective_history_[static_cast<int>(index)];
       if (history.bins.empty()) history.missed_at_tick = missed_bins_[index];
       history.bins.resize(mask_words_, 0);

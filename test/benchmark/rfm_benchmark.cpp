@@ -93,13 +93,17 @@ void BM_OctomapInsert(benchmark::State& state) {
 BENCHMARK(BM_OctomapInsert)->Unit(benchmark::kMillisecond);
 
 // Mapper driven as online: a filled field (two passes of the corridor), then the stage alone.
-// Argument 0 switches the departure check off (departure_min_angle = 0), to show its cost.
+// Argument 0 switches the departure checks off (departure_min_angle = departure_vacant_time =
+// 0, so no history is kept), to show their cost.
 Mapper& filledMapper(bool departures) {
   static std::unique_ptr<Mapper> mappers[2];
   std::unique_ptr<Mapper>& mapper = mappers[departures];
   if (!mapper) {
     MapperOptions options;
-    if (!departures) options.motion_removal.departure_min_angle = 0.0;
+    if (!departures) {
+      options.motion_removal.departure_min_angle = 0.0;
+      options.motion_removal.departure_vacant_time = 0.0;
+    }
     mapper = std::make_unique<Mapper>(options);
     for (const auto& s : scans())
       mapper->addScan(s.scan);

@@ -132,24 +132,18 @@ TEST(MotionRemover, PersistentCellsAnchorOnlyLongComponents) {
       f.hit({x, 5}, 90, 1);  // a 0.2 m blob
     f.field.tickPersistence();
   }
-  const OccupancyRule rule(OccupancyOptions(), f.field.geometry().binWidth());
-  const CellBox box = f.field.activeBox();
-  auto class_at = [&](const std::vector<CellClass>& classes, const CellIndex& c) {
-    return classes[static_cast<size_t>(c.y() - box.min.y()) * box.width() + c.x() - box.min.x()];
+  auto persistence = [](int ticks, int min_cells) {
+    AnchorRules anchors;
+    anchors.persistence_ticks = ticks;
+    anchors.persistence_min_cells = min_cells;
+    return anchors;
   };
-  auto outside = [](const CellIndex&) { return CellClass::kUnknown; };
-  std::vector<CellClass> classes;
-  MotionRemover any_size(rule, /*persistence_ticks=*/3, /*persistence_min_cells=*/0);
-  any_size.classify(f.field, box, outside, classes);
-  EXPECT_EQ(class_at(classes, {8, 0}), CellClass::kGlass);
-  EXPECT_EQ(class_at(classes, {-10, 5}), CellClass::kGlass);
-  MotionRemover long_only(rule, 3, /*persistence_min_cells=*/12);
-  long_only.classify(f.field, box, outside, classes);
-  EXPECT_EQ(class_at(classes, {8, 0}), CellClass::kGlass);
-  EXPECT_EQ(class_at(classes, {-10, 5}), CellClass::kMotion);
-  MotionRemover not_yet(rule, /*persistence_ticks=*/5, 12);  // not confirmed long enough
-  not_yet.classify(f.field, box, outside, classes);
-  EXPECT_EQ(class_at(classes, {8, 0}), CellClass::kMotion);
+  EXPECT_EQ(f.classify({8, 0}, persistence(3, 0)), CellClass::kGlass);
+  EXPECT_EQ(f.classify({-10, 5}, persistence(3, 0)), CellClass::kGlass);
+  EXPECT_EQ(f.classify({8, 0}, persistence(3, 12)), CellClass::kGlass);
+  EXPECT_EQ(f.classify({-10, 5}, persistence(3, 12)), CellClass::kMotion);
+  // Not confirmed long enough.
+  EXPECT_EQ(f.classify({8, 0}, persistence(5, 12)), CellClass::kMotion);
 }
 
 // A person seen from all around while standing still is widely visible; once rays pass where it
@@ -164,21 +158,14 @@ TEST(MotionRemover, DepartedCellsAnchorNothing) {
     for (int bin = 10; bin < 13; ++bin)
       f.field.applyMiss(spot, bin);
   }
-  const OccupancyRule rule(OccupancyOptions(), f.field.geometry().binWidth());
-  const CellBox box = f.field.activeBox();
-  const size_t local =
-      static_cast<size_t>(spot.y() - box.min.y()) * box.width() + (spot.x() - box.min.x());
-  auto outside = [](const CellIndex&) { return CellClass::kUnknown; };
-  std::vector<CellClass> classes;
-  MotionRemover without(rule, 0, 0, /*departure_min_bins=*/0);
-  without.classify(f.field, box, outside, classes);
-  EXPECT_EQ(classes[local], CellClass::kStatic);
-  MotionRemover with(rule, 0, 0, /*departure_min_bins=*/3);
-  with.classify(f.field, box, outside, classes);
-  EXPECT_EQ(classes[local], CellClass::kMotion);
-  MotionRemover stricter(rule, 0, 0, /*departure_min_bins=*/4);
-  stricter.classify(f.field, box, outside, classes);
-  EXPECT_EQ(classes[local], CellClass::kStatic);
+  auto class_with = [&](int departure_min_bins) {
+    AnchorRules anchors;
+    anchors.departure_min_bins = departure_min_bins;
+    return f.classify(spot, anchors);
+  };
+  EXPECT_EQ(class_with(0), CellClass::kStatic);
+  EXPECT_EQ(class_with(3), CellClass::kMotion);
+  EXPECT_EQ(class_with(4), CellClass::kStatic);
 }
 
 // A person seen from all around while standing still, then seen through only from directions
@@ -299,7 +286,9 @@ TEST(MotionRemover, ReusingUnchangedTilesGivesTheFreshResult) {
   options.motion_removal.motion_removal_enabled = false;  // the removers under test run here
   Mapper mapper(options);
   const OccupancyRule rule(options.occupancy, mapper.field().geometry().binWidth());
-  MotionRemover incremental(rule, 4, 10, 3);
+  const AnchorRules anchors{/*persistence_ticks=*/4, /*persistence_min_cells=*/10,
+                            /*departure_min_bins=*/3};
+  MotionRemover incremental(rule, anchors);
   ParallelRunner runner(2);
   auto outside = [&](const CellIndex& cell) { return mapper.map().get(cell); };
   std::vector<CellClass> reused, fresh;
@@ -314,7 +303,7 @@ TEST(MotionRemover, ReusingUnchangedTilesGivesTheFreshResult) {
     const MotionRemovalCounts a = incremental.classify(mapper.field(), box, outside, reused,
                                                        i % 40 == 19 ? &runner : nullptr);
     const MotionRemovalCounts b =
-        MotionRemover(rule, 4, 10, 3).classify(mapper.field(), box, outside, fresh);
+        MotionRemover(rule, anchors).classify(mapper.field(), box, outside, fresh);
     ASSERT_EQ(reused, fresh) << "after scan " << i;
     ASSERT_EQ(a.free_cells, b.free_cells);
     ASSERT_EQ(a.motion_cells, b.motion_cells);
@@ -331,7 +320,7 @@ TEST(MotionRemover, ReusingUnchangedTilesGivesTheFreshResult) {
   const CellBox inner{mapper.field().activeBox().min + CellIndex(5, 7),
                       mapper.field().activeBox().max - CellIndex(9, 3)};
   incremental.classify(mapper.field(), inner, outside, reused);
-  MotionRemover(rule, 4, 10, 3).classify(mapper.field(), inner, outside, fresh);
+  MotionRemover(rule, anchors).classify(mapper.field(), inner, outside, fresh);
   EXPECT_EQ(reused, fresh);
 }
 

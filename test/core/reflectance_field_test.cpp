@@ -63,7 +63,7 @@ TEST(ReflectanceField, BayesUpdatesPerBinAndSummaries) {
 // already missed in shows nothing new; cells without history have none.
 TEST(ReflectanceField, VacancyCountsTicksSeenThroughAnewWithoutAHit) {
   ReflectanceField field = smallField();
-  const CellIndex person(1, 1), wall(5, -5), pane(-3, 2), speck(0, -6), confirmed(-6, -6);
+  const CellIndex person(1, 1), wall(5, -5), pane(-3, 2), speck(0, -6);
   for (int bin = 20; bin < 60; ++bin) {
     field.applyHit(person, bin);
     field.applyHit(wall, bin);
@@ -72,13 +72,7 @@ TEST(ReflectanceField, VacancyCountsTicksSeenThroughAnewWithoutAHit) {
     field.applyHit(pane, bin);
   field.applyMiss(pane, 10);
   field.applyHit(speck, 40);
-  field.applyHit(confirmed, 40);
-  // The confirmed cell is hit at every tick: remembered once confirmed for 2 ticks.
-  for (int tick = 0; tick < 2; ++tick) {
-    field.tickPersistence(/*remembered_min_bins=*/40, /*remembered_min_ticks=*/2);
-    field.applyHit(confirmed, 40);
-  }
-  field.tickPersistence(/*remembered_min_bins=*/3, 2);  // the pane is remembered by its bins
+  field.tickPersistence(/*remembered_min_bins=*/3);
   auto vacant = [&](const CellIndex& cell) {
     return field.vacantTicksAt(field.window().storageIndex(cell));
   };
@@ -88,18 +82,17 @@ TEST(ReflectanceField, VacancyCountsTicksSeenThroughAnewWithoutAHit) {
     field.applyHit(wall, 30);
     field.applyMiss(pane, 10);
     field.applyMiss(speck, 100 + tick);
-    field.applyMiss(confirmed, 100 + tick);
-    field.tickPersistence(/*remembered_min_bins=*/1000, 1000);
+    field.tickPersistence(/*remembered_min_bins=*/1000);
     EXPECT_EQ(vacant(person), tick);
     EXPECT_EQ(vacant(wall), 0);
     EXPECT_EQ(vacant(pane), 0);
-    EXPECT_EQ(vacant(speck), 0);  // never remembered: too few bins, not confirmed for 2 ticks
-    EXPECT_EQ(vacant(confirmed), tick);
+    EXPECT_EQ(vacant(speck), 0);  // never remembered: too few bins
   }
-  field.applyHit(person, 30);  // back again
+  field.tickPersistence();
+  EXPECT_EQ(vacant(person), 3);  // nothing new seen: held
+  field.applyHit(person, 30);    // back again
   field.tickPersistence();
   EXPECT_EQ(vacant(person), 0);
-  EXPECT_EQ(vacant(confirmed), 3);  // nothing new seen: held
 }
 
 // A departure: bins that reflected at a tick and are now confidently missed. Seen through only

@@ -20,13 +20,6 @@ struct MotionRemovalCounts {
   size_t free_cells = 0;
 };
 
-// Motion removal (Alg. 2). Nodes are runs of contiguous reflective bins of one cell (theta
-// wraps around); two runs of 8-neighbouring cells are connected when their bins are within one
-// bin of each other, which is 26-connectivity in (x, y, theta). Components are found with an
-// iterative union-find. A component touching a widely visible cell (eq. 7), a known obstacle
-// just outside the box, or a long-lived cell when the component is long enough, is a static
-// structure: its cells are static (widely visible) or glass/metal; any other component is
-// motion. Cells seen through where they used to reflect (a departure) anchor nothing.
 // How the anchors of Alg. 2 are extended beyond the paper's widely visible cells, in the units
 // the field counts in (ticks of the persistence clock, cells, theta bins). 0 switches a rule off.
 struct AnchorRules {
@@ -50,15 +43,17 @@ struct AnchorRules {
   int opaque_min_cells = 0;
 };
 
+// Motion removal (Alg. 2). Nodes are runs of contiguous reflective bins of one cell (theta
+// wraps around); two runs of 8-neighbouring cells are connected when their bins are within one
+// bin of each other, which is 26-connectivity in (x, y, theta). Components are found with an
+// iterative union-find. A component touching a widely visible cell (eq. 7), a known obstacle
+// just outside the box, or a cell that AnchorRules let anchor (long confirmed, never seen
+// through) is a static structure: its cells are static (widely visible) or glass/metal; any
+// other component is motion. Cells that departed (AnchorRules) anchor nothing.
 class MotionRemover {
  public:
   explicit MotionRemover(const OccupancyRule& rule, const AnchorRules& anchors = AnchorRules())
       : rule_(rule), anchors_(anchors) {}
-  // The first three rules alone (see AnchorRules).
-  MotionRemover(const OccupancyRule& rule, int persistence_ticks, int persistence_min_cells = 0,
-                int departure_min_bins = 0)
-      : MotionRemover(rule, AnchorRules{persistence_ticks, persistence_min_cells,
-                                        departure_min_bins, 0, 0, 0}) {}
 
   // Classifies every cell of `box` (inside the field's active window) into `classes`
   // (row-major, x fastest). `outside` gives the known class of cells just outside the box and

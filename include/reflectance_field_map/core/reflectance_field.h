@@ -178,12 +178,11 @@ class ReflectanceField {
   // again between ticks, saturating at 255, and resets when it stops being reflective.
   // Long-confirmed evidence is structure even when seen from a single place; evidence that is
   // merely never contradicted does not count.
-  // Cells with at least `remembered_min_bins` reflective bins, or confirmed for at least
-  // `remembered_min_ticks` ticks, get a history (the cells that could anchor structure): their
-  // reflective bins are added to it (see contradictedBinsAt), and from then on every tick
-  // updates their vacancy (see vacantTicksAt). Histories are dropped with archived tiles.
-  void tickPersistence(int remembered_min_bins = std::numeric_limits<int>::max(),
-                       int remembered_min_ticks = std::numeric_limits<int>::max());
+  // Cells with at least `remembered_min_bins` reflective bins (those that could be widely
+  // visible) get a history: their reflective bins are added to it (see contradictedBinsAt), and
+  // from then on every tick updates their vacancy (see vacantTicksAt). Histories are dropped
+  // with archived tiles.
+  void tickPersistence(int remembered_min_bins = std::numeric_limits<int>::max());
   // Bins of the cell that were reflective at a persistence tick and are now missed with at least
   // half the clamp's confidence: something that was seen there is gone (a person who stood
   // still, then left). 0 for cells without history. Static structure, opaque, is not seen through
