@@ -1,6 +1,7 @@
 #include "reflectance_field_map/core/mapper.h"
 
 #include "reflectance_field_map/core/clearance_map.h"
+#include "reflectance_field_map/core/frozen_reflectivity.h"
 #include "reflectance_field_map/core/motion_removal.h"
 #include "reflectance_field_map/core/occupancy.h"
 #include "reflectance_field_map/core/ray_classification.h"
@@ -43,6 +44,10 @@ AnchorRules anchorRules(const MapperOptions& options, const GridGeometry& geomet
   return rules;
 }
 
+bool bitAt(const uint64_t* mask, int bit) {
+  return (mask[bit >> 6] >> (bit & 63)) & 1u;
+}
+
 }  // namespace
 
 // A scan as inserted, kept for online re-processing when new glass appears.
@@ -82,7 +87,7 @@ struct Mapper::Impl {
   // Classes of the active window from the last motion removal, by storage index.
   std::vector<CellClass> classes;
   size_t blocking_cells = 0;     // glass/metal/static cells in `classes`
-  ClearanceMap clearance;        // of `classes`: distance to the nearest non-empty cell
+  ClearanceMap clearance;        // of `classes`: distance to the nearest cell blocking rays
   double last_tick_stamp = 0.0;  // persistence ticks follow the scans' clock
   std::deque<BufferedScan> buffer;
   std::vector<Ray> rays;
@@ -91,6 +96,7 @@ struct Mapper::Impl {
   MapperStats stats;
   // Cells with a departure history (ReflectanceField::tickPersistence); max: none.
   int remembered_min_bins = std::numeric_limits<int>::max();
+  FrozenReflectivity frozen;  // set by restartEvidence until the next removeMotion
 };
 
 Mapper::Mapper(const MapperOptions& options)
@@ -109,6 +115,7 @@ CellClass Mapper::cellClass(const CellIndex& cell) const {
 ScanUpdate Mapper::addScan(const TimedScan& scan) {
   ScanUpdate update = prepareScan(scan, impl_->rays);
   if (!update.error.empty()) return update;
+  cutAtGlass(impl_->rays, update);
   const auto insert_start = std::chrono::steady_clock::now();
   update.bin_updates = impl_->inserter.insert(impl_->rays, field_);
   update.insert_ms = millisecondsSince(insert_start);
@@ -117,17 +124,28 @@ ScanUpdate Mapper::addScan(const TimedScan& scan) {
 }
 
 void Mapper::addScans(ScanIterator first, ScanIterator last) {
-  if (options_.reflection_removal.reflection_removal_enabled && impl_->blocking_cells > 0) {
+  const bool checks_glass = checksGlass();
+  if (checks_glass && !impl_->frozen.active()) {
     // The glass check reads the field as the scans before left it: one by one.
     for (ScanIterator scan = first; scan != last; ++scan)
       addScan(*scan);
     return;
   }
   // Scans go into the field together until the window moves or a persistence tick is due
-  // (ticks read the field as the scans before them left it).
+  // (ticks read the field as the scans before them left it). A glass check against frozen
+  // reflectivity reads nothing the group changes: it runs on the group's scans side by side.
   std::vector<std::vector<Ray>>& pending = impl_->pending;
   size_t pending_count = 0;
   auto flush = [&] {
+    if (checks_glass) {
+      std::vector<size_t> cut(impl_->runner->threads(), 0);
+      parallelFor(impl_->runner.get(), pending_count, 1, [&](size_t s, int thread) {
+        for (Ray& ray : pending[s])
+          cut[thread] += truncateAtGlass(ray);
+      });
+      for (size_t count : cut)
+        impl_->stats.reflection_rays += count;
+    }
     impl_->inserter.insertScans(pending, pending_count, field_);
     pending_count = 0;
   };
@@ -170,18 +188,23 @@ ScanUpdate Mapper::prepareScan(const TimedScan& scan, std::vector<Ray>& rays) {
   for (const Ray& ray : rays)
     update.labels[ray.beam] = RayLabel::kKept;
   clipToActiveRegion(rays);
-
-  auto reflection_start = std::chrono::steady_clock::now();
-  if (options_.reflection_removal.reflection_removal_enabled && impl_->blocking_cells > 0) {
-    // Read-only on the field and the classes: the rays split between threads freely.
-    parallelFor(impl_->runner.get(), rays.size(), 64, [&](size_t i, int) {
-      if (truncateAtGlass(rays[i])) update.labels[rays[i].beam] = RayLabel::kReflection;
-    });
-    impl_->stats.reflection_rays +=
-        std::count(update.labels.begin(), update.labels.end(), RayLabel::kReflection);
-  }
-  update.reflection_ms = millisecondsSince(reflection_start);
   return update;
+}
+
+bool Mapper::checksGlass() const {
+  return options_.reflection_removal.reflection_removal_enabled && impl_->blocking_cells > 0;
+}
+
+void Mapper::cutAtGlass(std::vector<Ray>& rays, ScanUpdate& update) {
+  if (!checksGlass()) return;
+  const auto start = std::chrono::steady_clock::now();
+  // Read-only on the field and the classes: the rays split between threads freely.
+  parallelFor(impl_->runner.get(), rays.size(), 64, [&](size_t i, int) {
+    if (truncateAtGlass(rays[i])) update.labels[rays[i].beam] = RayLabel::kReflection;
+  });
+  impl_->stats.reflection_rays +=
+      std::count(update.labels.begin(), update.labels.end(), RayLabel::kReflection);
+  update.reflection_ms = millisecondsSince(start);
 }
 
 void Mapper::finishScan(const TimedScan& scan, const std::vector<Ray>& rays,
@@ -218,6 +241,7 @@ void Mapper::tickPersistenceIfDue(double stamp) {
 
 MotionRemovalSummary Mapper::removeMotion() {
   const auto start = std::chrono::steady_clock::now();
+  impl_->frozen.clear();  // the glass check reads the field again
   MotionRemovalSummary summary;
   const CellBox box = field_.activeBox();
   std::vector<CellClass>& box_classes = impl_->box_classes;
@@ -245,7 +269,7 @@ MotionRemovalSummary Mapper::removeMotion() {
   struct alignas(64) RowResult {
     size_t blocking = 0;
     CellBox new_glass;
-    bool emptiness_changed = false;  // a cell became or stopped being free/unknown
+    bool blocking_changed = false;  // a cell started or stopped blocking rays
   };
   std::vector<RowResult> rows(box.height());
   const bool removed_motion = options_.motion_removal.motion_removal_enabled;
@@ -266,23 +290,23 @@ MotionRemovalSummary Mapper::removeMotion() {
                 result.new_glass = result.new_glass.unite({{x, y}, {x + 1, y + 1}});
               }
             }
-            result.emptiness_changed |= isEmptySpace(stored) != isEmptySpace(now);
+            result.blocking_changed |= blocksRays(stored) != blocksRays(now);
             stored = now;
           }
         });
   });
   CellBox new_glass;
-  bool emptiness_changed = false;
+  bool blocking_changed = false;
   impl_->blocking_cells = 0;
   for (const RowResult& result : rows) {
     impl_->blocking_cells += result.blocking;
     new_glass = new_glass.unite(result.new_glass);
-    emptiness_changed |= result.emptiness_changed;
+    blocking_changed |= result.blocking_changed;
   }
   const CellBox& clearance_box = impl_->clearance.box();
-  if (emptiness_changed || clearance_box.min != box.min || clearance_box.max != box.max) {
+  if (blocking_changed || clearance_box.min != box.min || clearance_box.max != box.max) {
     impl_->clearance.compute(box, [&](int dx, int dy) {
-      return isEmptySpace(box_classes[static_cast<size_t>(dy) * box.width() + dx]);
+      return !blocksRays(box_classes[static_cast<size_t>(dy) * box.width() + dx]);
     });
   }
   auto box_class = [&](const CellIndex& cell) {
@@ -377,7 +401,7 @@ void Mapper::revertEvidenceBehindGlass(const CellBox& new_glass) {
 void Mapper::updateClearance() {
   const CellBox box = field_.activeBox();
   impl_->clearance.compute(box, [&](int dx, int dy) {
-    return isEmptySpace(impl_->classes[field_.window().storageIndex(box.min + CellIndex(dx, dy))]);
+    return !blocksRays(impl_->classes[field_.window().storageIndex(box.min + CellIndex(dx, dy))]);
   });
 }
 
@@ -459,15 +483,18 @@ double Mapper::passThroughDistance(const Ray& ray) const {
   const double resolution = geometry.resolution();
   const int bins = geometry.thetaBins();
   const ClearanceMap& clearance = impl_->clearance;
+  const FrozenReflectivity& frozen = impl_->frozen;
   auto class_of = [this](const CellIndex& cell) { return cellClass(cell); };
-  // Free and unknown cells change nothing until the ray is inside a blocking cell, so the walk
-  // leaps over empty space by the clearance and steps cell by cell only near structure.
+  // Cells that cannot block (free, unknown, motion, unclassified) change nothing until the ray
+  // is inside a blocking cell, so the walk leaps over them by the clearance and steps cell by
+  // cell only near glass, metal and static structure. People's trails leave motion cells all
+  // over an open space: leaping over those too is what keeps the check cheap there.
   double from = 0.0;  // m along the ray where the next walk starts
   while (from < stop) {
     if (!detector.blocked()) {
       const int clear = clearance.at(geometry.cellOf(ray.origin + direction * from));
       if (clear >= 2) {
-        // Every cell within clear - 1 of the current one is empty: so is the ray's stretch.
+        // No cell within clear - 1 of the current one blocks: nor does the ray's stretch.
         from += (clear - 1) * resolution;
         continue;
       }
@@ -478,16 +505,17 @@ double Mapper::passThroughDistance(const Ray& ray) const {
         [&](int slot, int x, int y) {
           const CellClass c = impl_->classes[slot];
           auto reflective_near = [&](int bin) {
+            const uint64_t* mask =
+                frozen.active() ? frozen.maskOf({x, y}) : field_.reflectiveMaskAt(slot);
             // One bin either side: a wall grazed at a shallow angle is hit in neighbouring
             // directions.
-            return field_.isReflectiveAt(slot, bin) ||
-                   field_.isReflectiveAt(slot, (bin + 1) % bins) ||
-                   field_.isReflectiveAt(slot, (bin + bins - 1) % bins);
+            return mask && (bitAt(mask, bin) || bitAt(mask, (bin + 1) % bins) ||
+                            bitAt(mask, (bin + bins - 1) % bins));
           };
-          if (isEmptySpace(c)) {
+          if (!blocksRays(c)) {
             if (detector.blocked()) return detector.visit({x, y}, c, reflective_near, class_of);
             // Well clear of structure again: leap from here (the cell centre's projection lies
-            // in this cell or a neighbour, all of them empty).
+            // in this cell or a neighbour, none of them blocking).
             if (clearance.at({x, y}) >= 4) {
               const double along = (geometry.cellCenter({x, y}) - ray.origin).dot(direction);
               if (along > from + resolution) {
@@ -518,12 +546,14 @@ bool Mapper::truncateAtGlass(Ray& ray) const {
 }
 
 void Mapper::restartEvidence() {
+  impl_->frozen.freeze(field_, impl_->classes);
   // Classes live on in the global map; the next scan re-places the window and restores them.
   field_.clear();
   impl_->buffer.clear();
 }
 
 void Mapper::reset() {
+  impl_->frozen.clear();
   field_.clear();
   map_.clear();
   std::fill(impl_->classes.begin(), impl_->classes.end(), CellClass::kUnknown);
@@ -554,6 +584,7 @@ bool Mapper::load(std::istream& in) {
   impl_->blocking_cells = 0;
   impl_->clearance.clear();
   impl_->buffer.clear();
+  impl_->frozen.clear();
   return true;
 }
 

@@ -107,8 +107,10 @@ TEST(Mapper, GlobalMapKeepsWhatTheActiveRegionLeftBehind) {
 }
 
 // Same field, persistence and classes as addScan one by one, while the window moves, ticks
-// fall inside groups of scans and (with reflection removal) known glass cuts rays.
-void expectAddScansMatchesAddScan(bool reflection_removal) {
+// fall inside groups of scans and (with reflection removal) known glass cuts rays. With
+// `restart`, halfway both restart their evidence and take the scans again (batch
+// re-processing: the glass check then reads frozen reflectivity, grouped by addScans).
+void expectAddScansMatchesAddScan(bool reflection_removal, bool restart = false) {
   SyntheticWorld world;
   world.addWall({0.0, 2.0}, {40.0, 2.0});
   world.addWall({0.0, -2.0}, {6.0, -2.0});
@@ -124,13 +126,22 @@ void expectAddScansMatchesAddScan(bool reflection_removal) {
   for (const auto& step : driveBy({1.0, 0.0}, {16.0, 0.0}, kPi - 0.3))
     scans.push_back(world.timedScan(step.robot, 0.025 * i++));
   constexpr size_t kGroup = 33;  // not a multiple of the 20 scans between ticks
-  for (size_t first = 0; first < scans.size(); first += kGroup) {
-    const size_t last = std::min(scans.size(), first + kGroup);
-    for (size_t k = first; k < last; ++k)
-      one_by_one.addScan(scans[k]);
-    grouped.addScans(scans.begin() + first, scans.begin() + last);
-    one_by_one.removeMotion();
-    grouped.removeMotion();
+  for (int pass = 0; pass < (restart ? 2 : 1); ++pass) {
+    if (pass > 0) {
+      one_by_one.restartEvidence();
+      grouped.restartEvidence();
+    }
+    for (size_t first = 0; first < scans.size(); first += kGroup) {
+      const size_t last = std::min(scans.size(), first + kGroup);
+      for (size_t k = first; k < last; ++k)
+        one_by_one.addScan(scans[k]);
+      grouped.addScans(scans.begin() + first, scans.begin() + last);
+      // Re-processing (Alg. 3) runs motion removal once, at the end of its pass.
+      if (pass == 0 || last == scans.size()) {
+        one_by_one.removeMotion();
+        grouped.removeMotion();
+      }
+    }
   }
   const ReflectanceField& a = one_by_one.field();
   const ReflectanceField& b = grouped.field();
@@ -175,6 +186,10 @@ TEST(Mapper, AddScansGivesWhatAddScanGivesOneByOne) {
 
 TEST(Mapper, AddScansGivesWhatAddScanGivesWithReflectionRemoval) {
   expectAddScansMatchesAddScan(true);
+}
+
+TEST(Mapper, AddScansGivesWhatAddScanGivesAfterRestartingTheEvidence) {
+  expectAddScansMatchesAddScan(true, /*restart=*/true);
 }
 
 TEST(BatchProcessor, PlainGridBaselineErasesGlassThatTheRfmKeeps) {

@@ -104,7 +104,11 @@ class Mapper {
                                                 bool final_map = false) const;
 
   // Discards all reflectance evidence but keeps the current classes, so the next scans are
-  // checked against the glass found so far (batch re-processing, Alg. 3 step 2).
+  // checked against the glass found so far (batch re-processing, Alg. 3 step 2). Until the next
+  // removeMotion(), that check reads the directions the active region's static cells reflected
+  // in as they are now (the batch keeps a whole recording in its region), not as the evidence
+  // being rebuilt has them: it then depends on no scan before, so addScans checks and inserts
+  // scans in groups.
   void restartEvidence();
 
   void reset();
@@ -119,9 +123,11 @@ class Mapper {
   void revertEvidenceBehindGlass(const CellBox& new_glass);
   void undo(const BinUpdate& update);
   void redo(const BinUpdate& update);
-  // addScan up to the insertion: re-centres, makes the rays (into `rays`), clips them and cuts
-  // them at known glass. finishScan does what follows the insertion.
+  // addScan up to the insertion: re-centres, makes the rays (into `rays`) and clips them.
+  // cutAtGlass then cuts them at known glass; finishScan does what follows the insertion.
   ScanUpdate prepareScan(const TimedScan& scan, std::vector<Ray>& rays);
+  void cutAtGlass(std::vector<Ray>& rays, ScanUpdate& update);
+  bool checksGlass() const;
   void finishScan(const TimedScan& scan, const std::vector<Ray>& rays, const ScanUpdate& update);
   bool tickDue(double stamp) const;
   void tickPersistenceIfDue(double stamp);

@@ -60,8 +60,8 @@ class ScanInserter {
   };
   static void prepare(const std::vector<Ray>& rays, const ReflectanceField& field,
                       PreparedScan& prepared);
-  // Runs insert_bins(first_bin, end_bin, part) over all bins: in chunks on the runner's threads
-  // (part = thread), or at once by the caller (part -1). Returns the sum of its results.
+  // Runs insert_bins(first_bin, end_bin, part) over all bins in chunks: on the runner's threads
+  // (part = thread), or in turn by the caller (part -1). Returns the sum of its results.
   template <typename InsertBins>
   size_t forBinChunks(int bins, bool parallel, InsertBins&& insert_bins);
 

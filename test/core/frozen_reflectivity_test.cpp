@@ -1,0 +1,54 @@
+#include "reflectance_field_map/core/frozen_reflectivity.h"
+
+#include "test_fields.h"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+namespace rfm {
+namespace {
+
+bool bitAt(const uint64_t* mask, int bit) {
+  return (mask[bit >> 6] >> (bit & 63)) & 1u;
+}
+
+TEST(FrozenReflectivity, KeepsTheMasksOfStaticCellsAsTheyWere) {
+  ReflectanceField field = testing::centredField(2.0);
+  const CellIndex wall(3, 4), glass(-5, 2);
+  for (int i = 0; i < 3; ++i) {
+    field.applyHit(wall, 10);
+    field.applyHit(wall, 130);  // a bin in the mask's third word
+    field.applyHit(glass, 10);
+  }
+  std::vector<CellClass> classes(field.window().sizeCells() * field.window().sizeCells(),
+                                 CellClass::kFree);
+  classes[field.window().storageIndex(wall)] = CellClass::kStatic;
+  classes[field.window().storageIndex(glass)] = CellClass::kGlass;
+
+  FrozenReflectivity frozen;
+  EXPECT_FALSE(frozen.active());
+  frozen.freeze(field, classes);
+  EXPECT_TRUE(frozen.active());
+  // The field moves on (cleared, as a re-processing pass starts): the frozen masks do not.
+  field.clear();
+  field.recenter({0.0, 0.0});
+  const uint64_t* mask = frozen.maskOf(wall);
+  ASSERT_NE(mask, nullptr);
+  int reflective = 0;
+  for (int bin = 0; bin < field.geometry().thetaBins(); ++bin)
+    reflective += bitAt(mask, bin);
+  EXPECT_EQ(reflective, 2);
+  EXPECT_TRUE(bitAt(mask, 10));
+  EXPECT_TRUE(bitAt(mask, 130));
+  // Only static cells are kept (the glass check asks for no others).
+  EXPECT_EQ(frozen.maskOf(glass), nullptr);
+  EXPECT_EQ(frozen.maskOf({0, 0}), nullptr);
+
+  frozen.clear();
+  EXPECT_FALSE(frozen.active());
+  EXPECT_EQ(frozen.maskOf(wall), nullptr);
+}
+
+}  // namespace
+}  // namespace rfm
