@@ -133,28 +133,21 @@ void Mapper::addScans(ScanIterator first, ScanIterator last) {
   }
   // Scans go into the field together until the window moves or a persistence tick is due
   // (ticks read the field as the scans before them left it). A glass check against frozen
-  // reflectivity reads nothing the group changes: it runs on the group's scans side by side.
+  // reflectivity reads nothing the group changes: scans are cut as they come and inserted
+  // together.
   std::vector<std::vector<Ray>>& pending = impl_->pending;
   size_t pending_count = 0;
   auto flush = [&] {
-    if (checks_glass) {
-      std::vector<size_t> cut(impl_->runner->threads(), 0);
-      parallelFor(impl_->runner.get(), pending_count, 1, [&](size_t s, int thread) {
-        for (Ray& ray : pending[s])
-          cut[thread] += truncateAtGlass(ray);
-      });
-      for (size_t count : cut)
-        impl_->stats.reflection_rays += count;
-    }
     impl_->inserter.insertScans(pending, pending_count, field_);
     pending_count = 0;
   };
   for (ScanIterator scan = first; scan != last; ++scan) {
     if (pending_count > 0 && field_.wouldRecenter(scan->robot_pose.position)) flush();
     if (pending.size() <= pending_count) pending.resize(pending_count + 1);
-    const std::vector<Ray>& rays = pending[pending_count];
-    ScanUpdate update = prepareScan(*scan, pending[pending_count]);
+    std::vector<Ray>& rays = pending[pending_count];
+    ScanUpdate update = prepareScan(*scan, rays);
     if (!update.error.empty()) continue;
+    cutAtGlass(rays, update);
     ++pending_count;
     if (tickDue(scan->stamp)) flush();
     finishScan(*scan, rays, update);
