@@ -107,8 +107,8 @@ class Mapper {
   // checked against the glass found so far (batch re-processing, Alg. 3 step 2). Until the next
   // removeMotion(), that check reads the directions the active region's static cells reflected
   // in as they are now (the batch keeps a whole recording in its region), not as the evidence
-  // being rebuilt has them: it then depends on no scan before, so addScans checks and inserts
-  // scans in groups.
+  // being rebuilt has them: it then depends on no scan before, so addScans still inserts scans
+  // in groups.
   void restartEvidence();
 
   void reset();
