@@ -44,10 +44,6 @@ AnchorRules anchorRules(const MapperOptions& options, const GridGeometry& geomet
   return rules;
 }
 
-bool bitAt(const uint64_t* mask, int bit) {
-  return (mask[bit >> 6] >> (bit & 63)) & 1u;
-}
-
 }  // namespace
 
 // A scan as inserted, kept for online re-processing when new glass appears.
@@ -502,8 +498,8 @@ double Mapper::passThroughDistance(const Ray& ray) const {
                 frozen.active() ? frozen.maskOf({x, y}) : field_.reflectiveMaskAt(slot);
             // One bin either side: a wall grazed at a shallow angle is hit in neighbouring
             // directions.
-            return mask && (bitAt(mask, bin) || bitAt(mask, (bin + 1) % bins) ||
-                            bitAt(mask, (bin + bins - 1) % bins));
+            return mask && (maskBit(mask, bin) || maskBit(mask, (bin + 1) % bins) ||
+                            maskBit(mask, (bin + bins - 1) % bins));
           };
           if (!blocksRays(c)) {
             if (detector.blocked()) return detector.visit({x, y}, c, reflective_near, class_of);

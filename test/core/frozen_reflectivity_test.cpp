@@ -9,10 +9,6 @@
 namespace rfm {
 namespace {
 
-bool bitAt(const uint64_t* mask, int bit) {
-  return (mask[bit >> 6] >> (bit & 63)) & 1u;
-}
-
 TEST(FrozenReflectivity, KeepsTheMasksOfStaticCellsAsTheyWere) {
   ReflectanceField field = testing::centredField(2.0);
   const CellIndex wall(3, 4), glass(-5, 2);
@@ -37,10 +33,10 @@ TEST(FrozenReflectivity, KeepsTheMasksOfStaticCellsAsTheyWere) {
   ASSERT_NE(mask, nullptr);
   int reflective = 0;
   for (int bin = 0; bin < field.geometry().thetaBins(); ++bin)
-    reflective += bitAt(mask, bin);
+    reflective += maskBit(mask, bin);
   EXPECT_EQ(reflective, 2);
-  EXPECT_TRUE(bitAt(mask, 10));
-  EXPECT_TRUE(bitAt(mask, 130));
+  EXPECT_TRUE(maskBit(mask, 10));
+  EXPECT_TRUE(maskBit(mask, 130));
   // Only static cells are kept (the glass check asks for no others).
   EXPECT_EQ(frozen.maskOf(glass), nullptr);
   EXPECT_EQ(frozen.maskOf({0, 0}), nullptr);

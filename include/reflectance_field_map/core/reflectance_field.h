@@ -15,6 +15,11 @@
 
 namespace rfm {
 
+// Bit `bin` of a cell's reflective mask (ReflectanceField::reflectiveMaskAt): 64 bins a word.
+inline bool maskBit(const uint64_t* mask, int bin) {
+  return (mask[bin >> 6] >> (bin & 63)) & 1u;
+}
+
 // The Reflectance Field Map inside a robot-centred active region (paper Sec. III):
 // one int8 log-odds Bayes filter per (x, y, theta) bin, stored bin-major ([bin][y][x]) in a
 // rolling window of tiles so a ray, which updates a single theta slice, touches contiguous
@@ -166,13 +171,10 @@ class ReflectanceField {
   int reflectiveBins(const CellIndex& cell) const;
   int missedBins(const CellIndex& cell) const { return missed_bins_[window_.storageIndex(cell)]; }
   bool isReflectiveAt(int storage_index, int bin) const {
-    return (reflective_masks_[static_cast<size_t>(storage_index) * mask_words_ + (bin >> 6)] >>
-            (bin & 63)) &
-           1u;
+    return maskBit(reflectiveMaskAt(storage_index), bin);
   }
   bool isReflective(const CellIndex& cell, int bin) const {
-    const uint64_t* mask = reflectiveMask(cell);
-    return (mask[bin >> 6] >> (bin & 63)) & 1u;
+    return maskBit(reflectiveMask(cell), bin);
   }
   // Persistence tick: a cell's count (confirmedTicksAt) grows while it stays reflective and is hit
   // again between ticks, saturating at 255, and resets when it stops being reflective.
