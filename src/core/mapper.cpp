@@ -2,6 +2,7 @@
 
 #include "reflectance_field_map/core/clearance_map.h"
 #include "reflectance_field_map/core/frozen_reflectivity.h"
+#include "reflectance_field_map/core/glass_completion.h"
 #include "reflectance_field_map/core/motion_removal.h"
 #include "reflectance_field_map/core/occupancy.h"
 #include "reflectance_field_map/core/ray_classification.h"
@@ -15,6 +16,7 @@
 #include <istream>
 #include <limits>
 #include <ostream>
+#include <set>
 
 namespace rfm {
 namespace {
@@ -62,7 +64,10 @@ struct Mapper::Impl {
         runner(std::make_shared<ParallelRunner>(options.insertion.insertion_threads)),
         inserter(runner),
         classes(static_cast<size_t>(field.window().sizeCells()) * field.window().sizeCells(),
-                CellClass::kUnknown) {
+                CellClass::kUnknown),
+        completion(field.geometry(), options.reflection_removal.reflection_removal_enabled
+                                         ? options.reflection_removal.glass_completion_max_gap
+                                         : 0.0) {
     // Departures read the history of the cells that could be widely visible (no fewer bins
     // can be). Not of cells merely confirmed for the persistence time: glass confirmed that way
     // is seen through in its jittered lobe's edge bins later, which reads as a departure.
@@ -93,6 +98,10 @@ struct Mapper::Impl {
   // Cells with a departure history (ReflectanceField::tickPersistence); max: none.
   int remembered_min_bins = std::numeric_limits<int>::max();
   FrozenReflectivity frozen;  // set by restartEvidence until the next removeMotion
+  GlassCompletion completion;
+  // Tiles holding cells completed as glass at the last motion removal: their classes changed
+  // without their evidence changing, so motion removal's reuse of unchanged tiles skips them.
+  std::set<std::pair<int, int>> completed_tiles;
 };
 
 Mapper::Mapper(const MapperOptions& options)
@@ -254,6 +263,23 @@ MotionRemovalSummary Mapper::removeMotion() {
     impl_->stats.free_cells = free_cells;
   }
 
+  // Glass the robot has not faced yet, on the lines of glass it has. These cells change class
+  // with no change of evidence, so their tiles (and last time's) are not reused as unchanged.
+  std::set<std::pair<int, int>> completed_tiles;
+  for (int i : impl_->completion.complete(field_, box, box_classes)) {
+    const TileIndex tile =
+        field_.window().tileOf({box.min.x() + i % box.width(), box.min.y() + i / box.width()});
+    completed_tiles.insert({tile.x(), tile.y()});
+    ++summary.glass_cells;
+  }
+  const bool removed_motion = options_.motion_removal.motion_removal_enabled;
+  auto reused_tile = [&](const CellIndex& cell) {
+    if (!removed_motion || !impl_->remover.reusedTile(cell)) return false;
+    const TileIndex tile = field_.window().tileOf(cell);
+    const std::pair<int, int> key(tile.x(), tile.y());
+    return completed_tiles.count(key) == 0 && impl_->completed_tiles.count(key) == 0;
+  };
+
   // New glass: cells now blocking that were not before. Rows on the threads.
   struct alignas(64) RowResult {
     size_t blocking = 0;
@@ -261,14 +287,13 @@ MotionRemovalSummary Mapper::removeMotion() {
     bool blocking_changed = false;  // a cell started or stopped blocking rays
   };
   std::vector<RowResult> rows(box.height());
-  const bool removed_motion = options_.motion_removal.motion_removal_enabled;
   parallelFor(impl_->runner.get(), rows.size(), 16, [&](size_t row, int) {
     const int y = box.min.y() + static_cast<int>(row);
     RowResult& result = rows[row];
     field_.window().forEachTileSpan(
         {{box.min.x(), y}, {box.max.x(), y + 1}}, [&](int, int x_begin, int x_end, int slot) {
           // A reused tile's cells, free or unknown, are stored already.
-          if (removed_motion && impl_->remover.reusedTile({x_begin, y})) return;
+          if (reused_tile({x_begin, y})) return;
           size_t i = row * box.width() + (x_begin - box.min.x());
           for (int x = x_begin; x < x_end; ++x, ++slot) {
             CellClass& stored = impl_->classes[slot];
@@ -308,9 +333,10 @@ MotionRemovalSummary Mapper::removeMotion() {
     // Reused tiles hold what the map got last time.
     for (const TileIndex& tile : field_.window().tiles()) {
       const CellBox tile_box = field_.window().tileBox(tile);
-      if (!impl_->remover.reusedTile(tile_box.min)) map_.assign(tile_box, box_class);
+      if (!reused_tile(tile_box.min)) map_.assign(tile_box, box_class);
     }
   }
+  impl_->completed_tiles = std::move(completed_tiles);
   summary.new_glass = !new_glass.empty();
   if (summary.new_glass && options_.reflection_removal.reflection_removal_enabled) {
     revertEvidenceBehindGlass(new_glass);

@@ -73,6 +73,7 @@ void MotionRemovalOptions::validate() const {
 void ReflectionRemovalOptions::validate() const {
   requireRange("penetration_tolerance", penetration_tolerance, 0.0, 5.0);
   requireRange("max_reflection_iterations", max_reflection_iterations, 1, 100);
+  requireRange("glass_completion_max_gap", glass_completion_max_gap, 0.0, 20.0);
   requireRange("scan_buffer_size", scan_buffer_size, 0, 100000);
 }
 
@@ -206,6 +207,11 @@ const std::vector<FieldAccess>& accessTable() {
       {{"max_reflection_iterations", "batch re-processing passes", T::kInt},
        {},
        [](MapperOptions& o) -> int& { return o.reflection_removal.max_reflection_iterations; },
+       {}},
+      {{"glass_completion_max_gap", "free stretch of a glass line taken as glass (m, 0 off)",
+        T::kDouble},
+       [](MapperOptions& o) -> double& { return o.reflection_removal.glass_completion_max_gap; },
+       {},
        {}},
       {{"scan_buffer_size", "scans kept for online re-processing", T::kInt},
        {},

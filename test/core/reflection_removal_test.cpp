@@ -167,6 +167,84 @@ TEST(ReflectionRemoval, TwoParallelPanesTerminateWithBothKept) {
   }
 }
 
+// A facade of framed panes that the robot faces only near a doorway: further along, every ray
+// meets the glass obliquely and passes through, so those panes read as free space. Completion
+// closes the line between their frames, so the wall seen through them is a reflection too; the
+// doorway the robot drove past stays open, and so does a gap longer than the limit.
+TEST(ReflectionRemoval, GlassNeverFacedOnAFacadeLineIsCompleted) {
+  SyntheticWorld world;
+  // Facade at x = 2: a 1 m doorway at |y| < 0.5, then four 1.5 m panes either side; beyond a
+  // 2.5 m opening at y in [6.5, 9], one more pane.
+  for (double y = 0.5; y < 6.0; y += 1.5) {
+    world.addFramedPane({2.0, y}, {2.0, y + 1.5});
+    world.addFramedPane({2.0, -y}, {2.0, -y - 1.5});
+  }
+  world.addFramedPane({2.0, 9.0}, {2.0, 10.5});
+  world.addWall({4.5, -20.0}, {4.5, 20.0});
+  std::vector<TimedScan> scans;
+  for (const auto& step : driveBy({0.0, -1.5}, {0.0, 1.5}, kPi / 2)) {
+    scans.push_back(world.timedScan(step.robot, 0.025 * scans.size()));
+  }
+  for (const auto& step : driveBy({-2.0, 1.5}, {-2.0, -1.5}, -kPi / 2)) {
+    scans.push_back(world.timedScan(step.robot, 0.025 * scans.size()));
+  }
+  MapperOptions options = testing::scenarioOptions();
+  options.active_region.active_region_radius = 15.0;
+  const BatchResult completed = processBatch(scans, options, BatchMode::kFull);
+  options.reflection_removal.glass_completion_max_gap = 0.0;
+  const BatchResult not_completed = processBatch(scans, options, BatchMode::kFull);
+
+  // Rays ending on the wall behind, by where they cross the facade's line.
+  struct Share {
+    size_t rays = 0, kept = 0;
+    double kept_fraction() const { return rays == 0 ? 0.0 : static_cast<double>(kept) / rays; }
+  };
+  auto wall_rays = [&](const BatchResult& result, double min_abs_y, double max_abs_y) {
+    Share share;
+    for (size_t s = 0; s < scans.size(); ++s) {
+      const LaserScan2D& scan = scans[s].scan;
+      const Pose2D& sensor = scans[s].sensor_pose;
+      for (size_t beam = 0; beam < scan.ranges.size(); ++beam) {
+        const double angle = sensor.yaw + scan.angle_min + beam * scan.angle_increment;
+        const Eigen::Vector2d direction(std::cos(angle), std::sin(angle));
+        const Eigen::Vector2d end = sensor.position + scan.ranges[beam] * direction;
+        if (!std::isfinite(scan.ranges[beam]) || std::abs(end.x() - 4.5) > 0.05) continue;
+        const double crossing =
+            sensor.position.y() + direction.y() * (2.0 - sensor.position.x()) / direction.x();
+        if (std::abs(crossing) < min_abs_y || std::abs(crossing) > max_abs_y) continue;
+        ++share.rays;
+        share.kept += result.labels[s][beam] == RayLabel::kKept;
+      }
+    }
+    return share;
+  };
+  // Through the panes never faced (the robot faced |y| < 1.6 at most).
+  const Share unfaced = wall_rays(completed, 2.1, 6.4);
+  ASSERT_GT(unfaced.rays, 1000u);
+  EXPECT_LT(unfaced.kept_fraction(), 0.05);
+  EXPECT_GT(wall_rays(not_completed, 2.1, 6.4).kept_fraction(), 0.5);
+  // Through the doorway the robot drove past: kept, as without completion.
+  const Share doorway = wall_rays(completed, 0.0, 0.4);
+  ASSERT_GT(doorway.rays, 1000u);
+  EXPECT_GT(doorway.kept_fraction(), 0.9);
+  EXPECT_NEAR(doorway.kept_fraction(), wall_rays(not_completed, 0.0, 0.4).kept_fraction(), 0.01);
+  // The map: the unfaced panes are glass, the doorway and the opening longer than the limit
+  // are not.
+  auto glass_along = [&](double from_y, double to_y) {
+    const GridGeometry g(0.05, 180);
+    int glass = 0, total = 0;
+    for (double y = from_y; y <= to_y; y += 0.05, ++total) {
+      glass += completed.map.get(g.cellOf({2.0 - 1e-3, y})) == CellClass::kGlass ||
+               completed.map.get(g.cellOf({2.0 + 1e-3, y})) == CellClass::kGlass;
+    }
+    return static_cast<double>(glass) / total;
+  };
+  EXPECT_GT(glass_along(2.1, 3.4), 0.9);
+  EXPECT_GT(glass_along(-6.4, -5.1), 0.9);
+  EXPECT_EQ(glass_along(-0.4, 0.4), 0.0);
+  EXPECT_EQ(glass_along(6.6, 8.9), 0.0);
+}
+
 // Online: the live mapper labels rays through glass it already knows as reflections at insertion.
 TEST(ReflectionRemoval, OnlineScansThroughKnownGlassAreReflections) {
   SyntheticWorld world;

@@ -99,7 +99,10 @@ struct ReflectionRemovalOptions {
   // A ray may end this far beyond a glass/static cell before it counts as passing through it.
   double penetration_tolerance = 0.15;  // m
   int max_reflection_iterations = 3;    // batch re-processing passes (paper: 1 suffices)
-  int scan_buffer_size = 400;           // online ring buffer of recent scans (per mapper)
+  // Free stretches of a glass line, never faced, up to this long between structure are glass
+  // (GlassCompletion; 0: off).
+  double glass_completion_max_gap = 2.0;  // m
+  int scan_buffer_size = 400;             // online ring buffer of recent scans (per mapper)
   void validate() const;
 };
 

@@ -1,0 +1,57 @@
+#pragma once
+
+#include "reflectance_field_map/core/cell_class.h"
+#include "reflectance_field_map/core/grid_geometry.h"
+#include "reflectance_field_map/core/reflectance_field.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace rfm {
+
+// Glass returns only near its normal, so the field sees a facade only where the robot faced it:
+// the stretches it only ever saw obliquely read as free space, and whatever lies behind them
+// passes the reflection check. Such a stretch still leaves its trace in the field:
+//  - it continues a straight run of glass that is missed from many directions (transmission);
+//  - it ends at, or is broken by, structure on the same line (frames, mullions, a wall);
+//  - it was never looked through near the run's normal, where glass would have returned.
+// A free stretch with all three, no longer than `max_gap` between two pieces of structure, is
+// glass the robot has not faced yet. An opening on the line that the robot has faced (a door)
+// was missed near the normal and stays open.
+class GlassCompletion {
+ public:
+  // max_gap: m of free cells between two pieces of structure on the line (0: off).
+  GlassCompletion(const GridGeometry& geometry, double max_gap);
+
+  // Turns the completed cells of `classes` (the box's classes, row-major) into glass. Returns
+  // their indices in `classes`.
+  const std::vector<int>& complete(const ReflectanceField& field, const CellBox& box,
+                                   std::vector<CellClass>& classes);
+
+ private:
+  // A straight run of glass: its line, its extent along it and the bins it returns in.
+  struct Run {
+    Eigen::Vector2d centre;          // m
+    Eigen::Vector2d direction;       // unit, along the line
+    double first = 0.0, last = 0.0;  // m along `direction` from `centre`
+    std::vector<int> return_bins;    // where most of its cells reflect: glass there returns
+  };
+  void collectRuns(const ReflectanceField& field, const CellBox& box,
+                   const std::vector<CellClass>& classes);
+  // The run's line, extent and return bins; false when its cells do not make a straight run of
+  // glass.
+  bool describeRun(const ReflectanceField& field, const CellBox& box,
+                   const std::vector<int>& members, Run& run);
+  void extend(const ReflectanceField& field, const CellBox& box, const Run& run,
+              const Eigen::Vector2d& from, const Eigen::Vector2d& outward,
+              std::vector<CellClass>& classes, std::vector<int>& completed) const;
+
+  GridGeometry geometry_;
+  double max_gap_;
+  std::vector<Run> runs_;
+  std::vector<uint8_t> visited_;  // per box cell, while collecting runs
+  std::vector<int> completed_;
+  std::vector<int> bin_counts_;
+};
+
+}  // namespace rfm

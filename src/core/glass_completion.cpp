@@ -1,0 +1,187 @@
+#include "reflectance_field_map/core/glass_completion.h"
+
+#include "reflectance_field_map/core/ray_traversal.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rfm {
+namespace {
+
+// A run shorter than this gives no reliable line.
+constexpr size_t kMinRunCells = 8;
+// Cells of a straight run lie within this of its line (cells), rasterisation included.
+constexpr double kMaxOffLine = 1.0;
+// Glass lets most rays through: its cells are missed from at least this many bins on average.
+// A wall seen from a few directions only (narrowly visible too) is missed from almost none.
+constexpr double kMinMeanMissedBins = 10.0;
+// Structure on the line (frames, mullions) is thin; a longer stretch of it ends the line.
+constexpr double kMaxStructure = 0.5;  // m
+
+}  // namespace
+
+GlassCompletion::GlassCompletion(const GridGeometry& geometry, double max_gap)
+    : geometry_(geometry), max_gap_(max_gap) {}
+
+void GlassCompletion::collectRuns(const ReflectanceField& field, const CellBox& box,
+                                  const std::vector<CellClass>& classes) {
+  runs_.clear();
+  const int width = box.width(), height = box.height();
+  visited_.assign(classes.size(), 0);
+  std::vector<int> stack, members;
+  for (int start = 0; start < static_cast<int>(classes.size()); ++start) {
+    if (classes[start] != CellClass::kGlass || visited_[start]) continue;
+    // 8-connected component of glass cells.
+    members.clear();
+    stack.assign(1, start);
+    visited_[start] = 1;
+    while (!stack.empty()) {
+      const int i = stack.back();
+      stack.pop_back();
+      members.push_back(i);
+      const int x = i % width, y = i / width;
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int nx = x + dx, ny = y + dy;
+          if (nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
+          const int n = ny * width + nx;
+          if (classes[n] != CellClass::kGlass || visited_[n]) continue;
+          visited_[n] = 1;
+          stack.push_back(n);
+        }
+      }
+    }
+    if (members.size() < kMinRunCells) continue;
+    Run run;
+    if (describeRun(field, box, members, run)) runs_.push_back(std::move(run));
+  }
+}
+
+bool GlassCompletion::describeRun(const ReflectanceField& field, const CellBox& box,
+                                  const std::vector<int>& members, Run& run) {
+  const int width = box.width();
+  // The line through the cells (principal axis) and how far they stray from it.
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  double missed = 0.0;
+  auto cellOf = [&](int i) { return CellIndex(box.min.x() + i % width, box.min.y() + i / width); };
+  for (int i : members) {
+    centre += geometry_.cellCenter(cellOf(i));
+    missed += field.missedBins(cellOf(i));
+  }
+  centre /= static_cast<double>(members.size());
+  missed /= static_cast<double>(members.size());
+  double xx = 0.0, xy = 0.0, yy = 0.0;
+  for (int i : members) {
+    const Eigen::Vector2d p = geometry_.cellCenter(cellOf(i)) - centre;
+    xx += p.x() * p.x();
+    xy += p.x() * p.y();
+    yy += p.y() * p.y();
+  }
+  const double angle = 0.5 * std::atan2(2.0 * xy, xx - yy);
+  run.centre = centre;
+  run.direction = Eigen::Vector2d(std::cos(angle), std::sin(angle));
+  const Eigen::Vector2d normal(-run.direction.y(), run.direction.x());
+  double off_line = 0.0;
+  run.first = 0.0;
+  run.last = 0.0;
+  for (int i : members) {
+    const Eigen::Vector2d p = geometry_.cellCenter(cellOf(i)) - centre;
+    off_line = std::max(off_line, std::abs(p.dot(normal)));
+    run.first = std::min(run.first, p.dot(run.direction));
+    run.last = std::max(run.last, p.dot(run.direction));
+  }
+  if (off_line > kMaxOffLine * geometry_.resolution() || missed < kMinMeanMissedBins) return false;
+  // Where this glass returns: the bins most of its cells reflect in.
+  const int bins = geometry_.thetaBins();
+  bin_counts_.assign(bins, 0);
+  for (int i : members) {
+    const uint64_t* mask = field.reflectiveMask(cellOf(i));
+    for (int bin = 0; bin < bins; ++bin)
+      bin_counts_[bin] += maskBit(mask, bin);
+  }
+  for (int bin = 0; bin < bins; ++bin) {
+    if (2 * bin_counts_[bin] >= static_cast<int>(members.size())) run.return_bins.push_back(bin);
+  }
+  return !run.return_bins.empty();
+}
+
+void GlassCompletion::extend(const ReflectanceField& field, const CellBox& box, const Run& run,
+                             const Eigen::Vector2d& from, const Eigen::Vector2d& outward,
+                             std::vector<CellClass>& classes, std::vector<int>& completed) const {
+  const double resolution = geometry_.resolution();
+  const Eigen::Vector2d normal(-run.direction.y(), run.direction.x());
+  // Structure beside the line by a cell still counts as on it (rasterisation).
+  const CellIndex beside =
+      std::abs(normal.y()) >= std::abs(normal.x()) ? CellIndex(0, 1) : CellIndex(1, 0);
+  auto index = [&](const CellIndex& cell) {
+    return (cell.y() - box.min.y()) * box.width() + (cell.x() - box.min.x());
+  };
+  // Anything reflective: frames glimpsed from a few directions only are left as motion by
+  // Alg. 2 (nothing widely visible anchors them), yet they still mark the line.
+  auto structure_at = [&](const CellIndex& cell) {
+    if (!box.contains(cell)) return false;
+    const CellClass c = classes[index(cell)];
+    return isObstacle(c) || c == CellClass::kMotion;
+  };
+  // Glass on the line would have returned the rays near its normal: misses there rule it out.
+  // At the edges of its lobe glass returns only sometimes (its window jitters), so a cell
+  // counts as looked through only where it was missed in half of the run's bins.
+  auto could_be_glass = [&](const CellIndex& cell) {
+    size_t missed = 0;
+    for (int bin : run.return_bins)
+      missed += field.value(cell, bin) < 0;
+    return 2 * missed < run.return_bins.size();
+  };
+  std::vector<int> gap;
+  Eigen::Vector2d gap_start;
+  // Motion cells of the structure the gap began at: between two stretches of glass they are
+  // part of the line (a frame), and glass too once the gap closes.
+  std::vector<int> framing;
+  int structure = 0;  // cells in the current stretch of structure
+  auto turn_to_glass = [&](std::vector<int>& cells) {
+    for (int i : cells) {
+      classes[i] = CellClass::kGlass;
+      completed.push_back(i);
+    }
+    cells.clear();
+  };
+  const Eigen::Vector2d to = from + outward * (8.0 * max_gap_ + 1.0);
+  forEachCellOnRayWhile(from, to, geometry_.inverseResolution(), [&](const CellIndex& cell) {
+    if (!box.contains(cell)) return false;
+    if (structure_at(cell) || structure_at(cell + beside) || structure_at(cell - beside)) {
+      if (!gap.empty()) {
+        // Structure closes the gap before it.
+        turn_to_glass(gap);
+        turn_to_glass(framing);
+      }
+      if (structure == 0) framing.clear();
+      for (const CellIndex& c : {CellIndex(cell - beside), cell, CellIndex(cell + beside)}) {
+        if (box.contains(c) && classes[index(c)] == CellClass::kMotion) framing.push_back(index(c));
+      }
+      return ++structure * resolution <= kMaxStructure;
+    }
+    structure = 0;
+    const int i = index(cell);
+    if (classes[i] != CellClass::kFree || !could_be_glass(cell)) return false;
+    if (gap.empty()) gap_start = geometry_.cellCenter(cell);
+    gap.push_back(i);
+    return (geometry_.cellCenter(cell) - gap_start).dot(outward) + resolution <= max_gap_;
+  });
+}
+
+const std::vector<int>& GlassCompletion::complete(const ReflectanceField& field, const CellBox& box,
+                                                  std::vector<CellClass>& classes) {
+  std::vector<int>& completed = completed_;
+  completed.clear();
+  if (max_gap_ <= 0.0) return completed;
+  collectRuns(field, box, classes);
+  for (const Run& run : runs_) {
+    extend(field, box, run, run.centre + run.direction * run.last, run.direction, classes,
+           completed);
+    extend(field, box, run, run.centre + run.direction * run.first, -run.direction, classes,
+           completed);
+  }
+  return completed;
+}
+
+}  // namespace rfm
