@@ -75,6 +75,9 @@ struct Mapper::Impl {
       remembered_min_bins =
           rule.minWidelyVisibleBins(field.logOdds(), field.geometry().thetaBins());
     }
+    // Those confirmed cells are watched only in the bins they were certain in, which glass
+    // keeps returning in (abandonedTicksAt).
+    if (anchors.departure_vacant_ticks > 0) confirmed_min_ticks = anchors.persistence_ticks;
   }
 
   OccupancyRule rule;
@@ -97,6 +100,8 @@ struct Mapper::Impl {
   MapperStats stats;
   // Cells with a departure history (ReflectanceField::tickPersistence); max: none.
   int remembered_min_bins = std::numeric_limits<int>::max();
+  // Cells confirmed this many ticks get a certainty history; 0: none.
+  int confirmed_min_ticks = 0;
   FrozenReflectivity frozen;  // set by restartEvidence until the next removeMotion
   GlassCompletion completion;
   // Tiles holding cells completed as glass at the last motion removal: their classes changed
@@ -230,7 +235,7 @@ bool Mapper::tickDue(double stamp) const {
 
 void Mapper::tickPersistenceIfDue(double stamp) {
   if (tickDue(stamp)) {
-    field_.tickPersistence(impl_->remembered_min_bins);
+    field_.tickPersistence(impl_->remembered_min_bins, impl_->confirmed_min_ticks);
     impl_->last_tick_stamp = stamp;
   } else if (impl_->stats.scans_processed == 0 || stamp < impl_->last_tick_stamp) {
     impl_->last_tick_stamp = stamp;  // first scan, or time went back

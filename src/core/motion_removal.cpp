@@ -196,9 +196,13 @@ void MotionRemover::joinBand(const ReflectanceField& field, const CellBox& box, 
                               field.contradictedBinsAt(slot) >= anchors_.departure_min_bins) ||
                              (anchors_.departure_vacant_ticks > 0 &&
                               field.vacantTicksAt(slot) >= anchors_.departure_vacant_ticks));
+      // Evidence confirmed for long anchors until the robot looks through it from where it
+      // saw it solid.
+      const bool abandoned = confirmed && anchors_.departure_vacant_ticks > 0 &&
+                             field.abandonedTicksAt(slot) >= anchors_.departure_vacant_ticks;
       const bool anchor = visible && !departed;
       widely_visible_[local] = anchor;
-      const bool persistent = confirmed && !departed;
+      const bool persistent = confirmed && !departed && !abandoned;
       const bool opaque = anchors_.opaque_min_bins > 0 && reflective >= anchors_.opaque_min_bins &&
                           field.missedBinsAt(slot) == 0;
       bool seeded = anchor || (persistent && anchors_.persistence_min_cells == 0) ||

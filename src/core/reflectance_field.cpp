@@ -89,10 +89,12 @@ void ReflectanceField::archiveTiles(const std::vector<TileIndex>& tiles, Paralle
   const int tile_slots = window_.tileCells() * window_.tileCells();
   for (size_t i = 0; i < tiles.size(); ++i) {
     // The history is a summary of the active region only: it is not archived.
-    if (!reflective_history_.empty()) {
+    if (!reflective_history_.empty() || !confirmed_history_.empty()) {
       const int first = static_cast<int>(window_.tileFirstSlot(tiles[i]));
-      for (int slot = first; slot < first + tile_slots; ++slot)
+      for (int slot = first; slot < first + tile_slots; ++slot) {
         reflective_history_.erase(slot);
+        confirmed_history_.erase(slot);
+      }
     }
     if (!packed[i].empty()) {
       archive_.store(tiles[i], std::move(packed[i]));
@@ -160,12 +162,19 @@ size_t ReflectanceField::historyBytes() const {
   // Per entry: the mask words, the history and key, a hash node and its bucket pointer.
   const size_t entry = mask_words_ * sizeof(uint64_t) + sizeof(CellHistory) + sizeof(int) +
                        2 * sizeof(void*) + sizeof(void*);
-  return reflective_history_.size() * entry;
+  const size_t confirmed_entry = mask_words_ * sizeof(uint64_t) + theta_bins_ * sizeof(int8_t) +
+                                 sizeof(ConfirmedHistory) + sizeof(int) + 3 * sizeof(void*);
+  return reflective_history_.size() * entry + confirmed_history_.size() * confirmed_entry;
 }
 
 int ReflectanceField::vacantTicksAt(int storage_index) const {
   const auto it = reflective_history_.find(storage_index);
   return it == reflective_history_.end() ? 0 : it->second.vacant_ticks;
+}
+
+int ReflectanceField::abandonedTicksAt(int storage_index) const {
+  const auto it = confirmed_history_.find(storage_index);
+  return it == confirmed_history_.end() ? 0 : it->second.abandoned_ticks;
 }
 
 int ReflectanceField::contradictedBinsAt(int storage_index) const {
@@ -185,6 +194,7 @@ int ReflectanceField::contradictedBinsAt(int storage_index) const {
 
 void ReflectanceField::clear() {
   reflective_history_.clear();
+  confirmed_history_.clear();
   std::fill(bins_.begin(), bins_.end(), 0);
   std::fill(reflective_masks_.begin(), reflective_masks_.end(), 0);
   std::fill(missed_bins_.begin(), missed_bins_.end(), 0);
@@ -287,7 +297,28 @@ void ReflectanceField::rebuildCellSummary(int storage_index) {
   ++tile_versions_[tile];
 }
 
-void ReflectanceField::tickPersistence(int remembered_min_bins) {
+void ReflectanceField::tickPersistence(int remembered_min_bins, int confirmed_min_ticks) {
+  // Abandonment first, like vacancy: it compares with the last tick and reads the hits since.
+  for (auto it = confirmed_history_.begin(); it != confirmed_history_.end();) {
+    const int slot = it->first;
+    ConfirmedHistory& history = it->second;
+    if (!reflective_bins_[slot]) {
+      it = confirmed_history_.erase(it);  // no longer confirmed
+      continue;
+    }
+    bool lost_certainty = false;
+    for (int bin = 0; bin < theta_bins_; ++bin) {
+      const int8_t value = bins_[static_cast<size_t>(bin) * plane_ + slot];
+      lost_certainty |= maskBit(history.certain.data(), bin) && value < history.at_tick[bin];
+      history.at_tick[bin] = value;
+    }
+    if (hit_since_tick_[slot]) {
+      history.abandoned_ticks = 0;
+    } else if (lost_certainty && history.abandoned_ticks < 255) {
+      ++history.abandoned_ticks;
+    }
+    ++it;
+  }
   // Vacancy first: it reads the hits since the last tick, which the loop below clears.
   for (auto& [slot, history] : reflective_history_) {
     if (hit_since_tick_[slot]) {
@@ -307,12 +338,26 @@ void ReflectanceField::tickPersistence(int remembered_min_bins) {
         history.bins[w] |= mask[w];
     }
     uint8_t& ticks = confirmed_ticks_[index];
+    if (confirmed_min_ticks > 0 && ticks >= confirmed_min_ticks) rememberCertainty(index);
     if (!reflective_bins_[index]) {
       ticks = 0;
     } else if (hit_since_tick_[index] && ticks < 255) {
       ++ticks;  // not hit (occluded, out of view): held, neither confirmed nor reset
     }
     hit_since_tick_[index] = 0;
+  }
+}
+
+void ReflectanceField::rememberCertainty(size_t storage_index) {
+  ConfirmedHistory& history = confirmed_history_[static_cast<int>(storage_index)];
+  if (history.at_tick.empty()) {
+    history.certain.assign(mask_words_, 0);
+    history.at_tick.resize(theta_bins_);
+  }
+  for (int bin = 0; bin < theta_bins_; ++bin) {
+    const int8_t value = bins_[static_cast<size_t>(bin) * plane_ + storage_index];
+    if (value >= log_odds_.maxValue()) history.certain[bin >> 6] |= uint64_t{1} << (bin & 63);
+    history.at_tick[bin] = value;
   }
 }
 

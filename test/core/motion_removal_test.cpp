@@ -192,6 +192,33 @@ TEST(MotionRemover, VacantCellsAnchorNothing) {
   EXPECT_EQ(class_with(3), CellClass::kStatic);
 }
 
+// A person who stood long enough to be confirmed, then left: the robot looks through the spot
+// from where it saw them (missed where the cells were certain, hit nowhere). Abandoned, the
+// cells anchor nothing and the blob is motion.
+TEST(MotionRemover, AbandonedPersistentCellsAnchorNothing) {
+  DirectField f;
+  constexpr int kConfirmed = 3;
+  for (int tick = 0; tick <= kConfirmed; ++tick) {
+    for (int x = -12; x < -8; ++x)
+      f.hit({x, 5}, 90, 6);
+    f.field.tickPersistence(/*remembered_min_bins=*/1000, kConfirmed);
+  }
+  for (int tick = 0; tick < 2; ++tick) {
+    for (int x = -12; x < -8; ++x)
+      f.field.applyMiss({x, 5}, 90);
+    f.field.tickPersistence(1000, kConfirmed);
+  }
+  auto class_with = [&](int vacant_ticks) {
+    AnchorRules anchors;
+    anchors.persistence_ticks = kConfirmed;
+    anchors.departure_vacant_ticks = vacant_ticks;
+    return f.classify({-10, 5}, anchors);
+  };
+  EXPECT_EQ(class_with(0), CellClass::kGlass);
+  EXPECT_EQ(class_with(2), CellClass::kMotion);
+  EXPECT_EQ(class_with(3), CellClass::kGlass);
+}
+
 // A wall glimpsed through a doorway: each cell reflective in a few bins, never seen through.
 // It anchors itself when long enough; a person's short stroke does not, nor does a wall whose
 // cells were seen through.

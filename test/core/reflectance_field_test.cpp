@@ -95,6 +95,51 @@ TEST(ReflectanceField, VacancyCountsTicksSeenThroughAnewWithoutAHit) {
   EXPECT_EQ(vacant(person), 0);
 }
 
+// Abandonment: ticks over which a long-confirmed cell was missed in a bin it had been certain
+// in, and hit nowhere. Glass seen through at the edge of its lobe and structure still hit are
+// not abandoned; cells never confirmed have no such history.
+TEST(ReflectanceField, AbandonmentCountsTicksMissedWhereACellWasCertainWithoutAHit) {
+  ReflectanceField field = smallField();
+  const CellIndex person(1, 1), pane(-3, 2), wall(5, -5), speck(0, -6);
+  constexpr int kConfirmed = 2;
+  auto tick = [&] { field.tickPersistence(/*remembered_min_bins=*/1000, kConfirmed); };
+  for (int t = 0; t <= kConfirmed; ++t) {  // hit at every tick: confirmed, certain
+    for (int i = 0; i < 6; ++i) {
+      for (int bin = 40; bin < 60; ++bin)
+        field.applyHit(person, bin);
+      for (int bin = 20; bin < 30; ++bin)
+        field.applyHit(wall, bin);
+      field.applyHit(pane, 90);
+    }
+    field.applyHit(pane, 92);  // the lobe's edge: returns only now and then
+    tick();
+  }
+  for (int i = 0; i < 6; ++i)
+    field.applyHit(speck, 40);
+  tick();
+  auto abandoned = [&](const CellIndex& cell) {
+    return field.abandonedTicksAt(field.window().storageIndex(cell));
+  };
+  for (int t = 1; t <= 3; ++t) {
+    field.applyMiss(person, 45);  // the person left: the robot looks through where they stood
+    field.applyMiss(pane, 92);
+    field.applyMiss(pane, 120);
+    field.applyMiss(wall, 25);  // a ray grazing through the wall's cell, which stays in view
+    field.applyHit(wall, 26);
+    field.applyMiss(speck, 40);
+    tick();
+    EXPECT_EQ(abandoned(person), t);
+    EXPECT_EQ(abandoned(pane), 0);
+    EXPECT_EQ(abandoned(wall), 0);
+    EXPECT_EQ(abandoned(speck), 0);  // never confirmed
+  }
+  tick();
+  EXPECT_EQ(abandoned(person), 3);  // not looked at: held
+  field.applyHit(person, 50);
+  tick();
+  EXPECT_EQ(abandoned(person), 0);
+}
+
 // A departure: bins that reflected at a tick and are now confidently missed. Seen through only
 // in other directions (glass) or never (a wall) is no departure, and small cells keep no history.
 TEST(ReflectanceField, ContradictedBinsAreFormerlyReflectiveBinsNowSeenThrough) {

@@ -184,7 +184,10 @@ class ReflectanceField {
   // visible) get a history: their reflective bins are added to it (see contradictedBinsAt), and
   // from then on every tick updates their vacancy (see vacantTicksAt). Histories are dropped
   // with archived tiles.
-  void tickPersistence(int remembered_min_bins = std::numeric_limits<int>::max());
+  // Cells confirmed for at least `confirmed_min_ticks` ticks (0: none) get a second history: the
+  // bins in which they were certain (log-odds at the clamp), see abandonedTicksAt.
+  void tickPersistence(int remembered_min_bins = std::numeric_limits<int>::max(),
+                       int confirmed_min_ticks = 0);
   // Bins of the cell that were reflective at a persistence tick and are now missed with at least
   // half the clamp's confidence: something that was seen there is gone (a person who stood
   // still, then left). 0 for cells without history. Static structure, opaque, is not seen through
@@ -195,6 +198,11 @@ class ReflectanceField {
   // still seen from elsewhere after leaving). A hit resets it: structure in view is hit, even
   // where grazing rays pass through its cell. 0 for cells without history.
   int vacantTicksAt(int storage_index) const;
+  // Consecutive ticks, up to the last, over which a confirmed cell was missed in a bin it had
+  // been certain in and hit nowhere: the robot looks through it from where it saw it solid (a
+  // person who stood still for long, then left). Glass transmits only away from the directions it
+  // returns in, and structure in view is hit. 0 for cells without that history.
+  int abandonedTicksAt(int storage_index) const;
 
   // Per storage tile (window().tileSlotShift()): how many cells have a reflective bin, and a
   // version that changes whenever a cell summary of the tile (mask, reflective or missed count)
@@ -208,8 +216,9 @@ class ReflectanceField {
   double marginalOdds(const CellIndex& cell) const;
 
   // Memory.
-  size_t activeBytes() const;   // includes historyBytes()
-  size_t historyBytes() const;  // the departure history (estimated, hash map overhead included)
+  size_t activeBytes() const;  // includes historyBytes()
+  // The departure and abandonment histories (estimated, hash map overhead included).
+  size_t historyBytes() const;
   size_t archivedBytes() const { return archive_.bytes(); }
   size_t archivedTiles() const { return archive_.tileCount(); }
   const TileArchive& archive() const { return archive_; }
@@ -247,6 +256,8 @@ class ReflectanceField {
   // Recomputes the summaries of a tile just restored into storage (cleared before).
   void rebuildSummaries(const TileIndex& tile);
   void rebuildCellSummary(int storage_index);
+  // Adds the bins the cell is certain in to its confirmed history (see abandonedTicksAt).
+  void rememberCertainty(size_t storage_index);
   void gatherTile(const TileIndex& tile, std::vector<int8_t>& bins) const;
   void scatterTile(const TileIndex& tile, const std::vector<int8_t>& bins);
 
@@ -283,6 +294,12 @@ class ReflectanceField {
     uint8_t vacant_ticks = 0;
   };
   std::unordered_map<int, CellHistory> reflective_history_;  // by storage index
+  struct ConfirmedHistory {
+    std::vector<uint64_t> certain;  // bins at the clamp at a tick while confirmed (mask words)
+    std::vector<int8_t> at_tick;    // every bin's log-odds at the last tick
+    uint8_t abandoned_ticks = 0;
+  };
+  std::unordered_map<int, ConfirmedHistory> confirmed_history_;  // by storage index
   TileArchive archive_;
 };
 
