@@ -9,6 +9,15 @@
 namespace rfm {
 namespace {
 
+// Calls visit(bin) for every set bit of a mask of `words` 64-bit words.
+template <typename Visit>
+void forEachBit(const uint64_t* mask, int words, Visit&& visit) {
+  for (int w = 0; w < words; ++w) {
+    for (uint64_t word = mask[w]; word != 0; word &= word - 1)
+      visit(64 * w + __builtin_ctzll(word));
+  }
+}
+
 constexpr uint32_t kStateMagic = 0x52464d31;  // "RFM1"
 
 template <typename T>
@@ -141,12 +150,8 @@ double ReflectanceField::marginalOddsAt(int storage_index) const {
 double ReflectanceField::reflectiveOddsAt(int storage_index) const {
   const uint64_t* mask = reflectiveMaskAt(storage_index);
   double sum = 0.0;
-  for (int w = 0; w < mask_words_; ++w) {
-    for (uint64_t bits = mask[w]; bits != 0; bits &= bits - 1) {
-      const int bin = 64 * w + __builtin_ctzll(bits);
-      sum += log_odds_.odds(bins_[bin * plane_ + storage_index]);
-    }
-  }
+  forEachBit(mask, mask_words_,
+             [&](int bin) { sum += log_odds_.odds(bins_[bin * plane_ + storage_index]); });
   return sum;
 }
 
@@ -183,12 +188,9 @@ int ReflectanceField::contradictedBinsAt(int storage_index) const {
   if (it == reflective_history_.end()) return 0;
   const int confidently_missed = log_odds_.minValue() / 2;
   int count = 0;
-  for (int w = 0; w < mask_words_; ++w) {
-    for (uint64_t word = it->second.bins[w]; word != 0; word &= word - 1) {
-      const int bin = 64 * w + __builtin_ctzll(word);
-      count += bins_[static_cast<size_t>(bin) * plane_ + storage_index] <= confidently_missed;
-    }
-  }
+  forEachBit(it->second.bins.data(), mask_words_, [&](int bin) {
+    count += bins_[static_cast<size_t>(bin) * plane_ + storage_index] <= confidently_missed;
+  });
   return count;
 }
 
@@ -307,11 +309,11 @@ void ReflectanceField::tickPersistence(int remembered_min_bins, int confirmed_mi
       continue;
     }
     bool lost_certainty = false;
-    for (int bin = 0; bin < theta_bins_; ++bin) {
+    forEachBit(history.certain.data(), mask_words_, [&](int bin) {
       const int8_t value = bins_[static_cast<size_t>(bin) * plane_ + slot];
-      lost_certainty |= maskBit(history.certain.data(), bin) && value < history.at_tick[bin];
+      lost_certainty |= value < history.at_tick[bin];
       history.at_tick[bin] = value;
-    }
+    });
     if (hit_since_tick_[slot]) {
       history.abandoned_ticks = 0;
     } else if (lost_certainty && history.abandoned_ticks < 255) {
@@ -338,11 +340,14 @@ void ReflectanceField::tickPersistence(int remembered_min_bins, int confirmed_mi
         history.bins[w] |= mask[w];
     }
     uint8_t& ticks = confirmed_ticks_[index];
-    if (confirmed_min_ticks > 0 && ticks >= confirmed_min_ticks) rememberCertainty(index);
     if (!reflective_bins_[index]) {
       ticks = 0;
     } else if (hit_since_tick_[index] && ticks < 255) {
       ++ticks;  // not hit (occluded, out of view): held, neither confirmed nor reset
+    }
+    // Only hits make a bin certain.
+    if (confirmed_min_ticks > 0 && ticks >= confirmed_min_ticks && hit_since_tick_[index]) {
+      rememberCertainty(index);
     }
     hit_since_tick_[index] = 0;
   }
@@ -354,11 +359,13 @@ void ReflectanceField::rememberCertainty(size_t storage_index) {
     history.certain.assign(mask_words_, 0);
     history.at_tick.resize(theta_bins_);
   }
-  for (int bin = 0; bin < theta_bins_; ++bin) {
+  // Certain bins are reflective ones at the clamp.
+  forEachBit(&reflective_masks_[storage_index * mask_words_], mask_words_, [&](int bin) {
     const int8_t value = bins_[static_cast<size_t>(bin) * plane_ + storage_index];
-    if (value >= log_odds_.maxValue()) history.certain[bin >> 6] |= uint64_t{1} << (bin & 63);
+    if (value < log_odds_.maxValue()) return;
+    history.certain[bin >> 6] |= uint64_t{1} << (bin & 63);
     history.at_tick[bin] = value;
-  }
+  });
 }
 
 void ReflectanceField::revertAt(int storage_index, int bin, int step) {
