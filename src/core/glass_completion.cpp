@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace rfm {
 namespace {
@@ -27,10 +28,19 @@ void GlassCompletion::collectRuns(const ReflectanceField& field, const CellBox& 
                                   const std::vector<CellClass>& classes) {
   runs_.clear();
   const int width = box.width(), height = box.height();
-  visited_.assign(classes.size(), 0);
+  // Glass is rare: jump from one glass cell to the next, and clear only the marks set.
+  if (visited_.size() != classes.size()) visited_.assign(classes.size(), 0);
+  visited_cells_.clear();
   std::vector<int> stack, members;
-  for (int start = 0; start < static_cast<int>(classes.size()); ++start) {
-    if (classes[start] != CellClass::kGlass || visited_[start]) continue;
+  const CellClass* const first = classes.data();
+  const CellClass* const last = first + classes.size();
+  static_assert(sizeof(CellClass) == 1, "searched as bytes");
+  for (const CellClass* found = first;
+       (found = static_cast<const CellClass*>(
+            std::memchr(found, static_cast<int>(CellClass::kGlass), last - found))) != nullptr;
+       ++found) {
+    const int start = static_cast<int>(found - first);
+    if (visited_[start]) continue;
     // 8-connected component of glass cells.
     members.clear();
     stack.assign(1, start);
@@ -39,6 +49,7 @@ void GlassCompletion::collectRuns(const ReflectanceField& field, const CellBox& 
       const int i = stack.back();
       stack.pop_back();
       members.push_back(i);
+      visited_cells_.push_back(i);
       const int x = i % width, y = i / width;
       for (int dy = -1; dy <= 1; ++dy) {
         for (int dx = -1; dx <= 1; ++dx) {
@@ -55,6 +66,8 @@ void GlassCompletion::collectRuns(const ReflectanceField& field, const CellBox& 
     Run run;
     if (describeRun(field, box, members, run)) runs_.push_back(std::move(run));
   }
+  for (int i : visited_cells_)
+    visited_[i] = 0;
 }
 
 bool GlassCompletion::describeRun(const ReflectanceField& field, const CellBox& box,
@@ -95,9 +108,8 @@ bool GlassCompletion::describeRun(const ReflectanceField& field, const CellBox& 
   const int bins = geometry_.thetaBins();
   bin_counts_.assign(bins, 0);
   for (int i : members) {
-    const uint64_t* mask = field.reflectiveMask(cellOf(i));
-    for (int bin = 0; bin < bins; ++bin)
-      bin_counts_[bin] += maskBit(mask, bin);
+    forEachMaskBit(field.reflectiveMask(cellOf(i)), field.maskWords(),
+                   [&](int bin) { ++bin_counts_[bin]; });
   }
   for (int bin = 0; bin < bins; ++bin) {
     if (2 * bin_counts_[bin] >= static_cast<int>(members.size())) run.return_bins.push_back(bin);
@@ -140,11 +152,13 @@ void GlassCompletion::extend(const ReflectanceField& field, const CellBox& box, 
   int structure = 0;  // cells in the current stretch of structure
   auto turn_to_glass = [&](std::vector<int>& cells) {
     for (int i : cells) {
+      if (classes[i] == CellClass::kGlass) continue;  // listed twice (a diagonal line)
       classes[i] = CellClass::kGlass;
       completed.push_back(i);
     }
     cells.clear();
   };
+  // A facade of a few panes between mullions; the walk ends long before on anything else.
   const Eigen::Vector2d to = from + outward * (8.0 * max_gap_ + 1.0);
   forEachCellOnRayWhile(from, to, geometry_.inverseResolution(), [&](const CellIndex& cell) {
     if (!box.contains(cell)) return false;
@@ -175,6 +189,7 @@ const std::vector<int>& GlassCompletion::complete(const ReflectanceField& field,
   completed.clear();
   if (max_gap_ <= 0.0) return completed;
   collectRuns(field, box, classes);
+  // From both ends of every run, outwards along its line.
   for (const Run& run : runs_) {
     extend(field, box, run, run.centre + run.direction * run.last, run.direction, classes,
            completed);

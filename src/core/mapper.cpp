@@ -280,6 +280,7 @@ MotionRemovalSummary Mapper::removeMotion() {
   const bool removed_motion = options_.motion_removal.motion_removal_enabled;
   auto reused_tile = [&](const CellIndex& cell) {
     if (!removed_motion || !impl_->remover.reusedTile(cell)) return false;
+    if (completed_tiles.empty() && impl_->completed_tiles.empty()) return true;
     const TileIndex tile = field_.window().tileOf(cell);
     const std::pair<int, int> key(tile.x(), tile.y());
     return completed_tiles.count(key) == 0 && impl_->completed_tiles.count(key) == 0;

@@ -9,15 +9,6 @@
 namespace rfm {
 namespace {
 
-// Calls visit(bin) for every set bit of a mask of `words` 64-bit words.
-template <typename Visit>
-void forEachBit(const uint64_t* mask, int words, Visit&& visit) {
-  for (int w = 0; w < words; ++w) {
-    for (uint64_t word = mask[w]; word != 0; word &= word - 1)
-      visit(64 * w + __builtin_ctzll(word));
-  }
-}
-
 constexpr uint32_t kStateMagic = 0x52464d31;  // "RFM1"
 
 template <typename T>
@@ -150,8 +141,8 @@ double ReflectanceField::marginalOddsAt(int storage_index) const {
 double ReflectanceField::reflectiveOddsAt(int storage_index) const {
   const uint64_t* mask = reflectiveMaskAt(storage_index);
   double sum = 0.0;
-  forEachBit(mask, mask_words_,
-             [&](int bin) { sum += log_odds_.odds(bins_[bin * plane_ + storage_index]); });
+  forEachMaskBit(mask, mask_words_,
+                 [&](int bin) { sum += log_odds_.odds(bins_[bin * plane_ + storage_index]); });
   return sum;
 }
 
@@ -188,7 +179,7 @@ int ReflectanceField::contradictedBinsAt(int storage_index) const {
   if (it == reflective_history_.end()) return 0;
   const int confidently_missed = log_odds_.minValue() / 2;
   int count = 0;
-  forEachBit(it->second.bins.data(), mask_words_, [&](int bin) {
+  forEachMaskBit(it->second.bins.data(), mask_words_, [&](int bin) {
     count += bins_[static_cast<size_t>(bin) * plane_ + storage_index] <= confidently_missed;
   });
   return count;
@@ -309,7 +300,7 @@ void ReflectanceField::tickPersistence(int remembered_min_bins, int confirmed_mi
       continue;
     }
     bool lost_certainty = false;
-    forEachBit(history.certain.data(), mask_words_, [&](int bin) {
+    forEachMaskBit(history.certain.data(), mask_words_, [&](int bin) {
       const int8_t value = bins_[static_cast<size_t>(bin) * plane_ + slot];
       lost_certainty |= value < history.at_tick[bin];
       history.at_tick[bin] = value;
@@ -360,7 +351,7 @@ void ReflectanceField::rememberCertainty(size_t storage_index) {
     history.at_tick.resize(theta_bins_);
   }
   // Certain bins are reflective ones at the clamp.
-  forEachBit(&reflective_masks_[storage_index * mask_words_], mask_words_, [&](int bin) {
+  forEachMaskBit(&reflective_masks_[storage_index * mask_words_], mask_words_, [&](int bin) {
     const int8_t value = bins_[static_cast<size_t>(bin) * plane_ + storage_index];
     if (value < log_odds_.maxValue()) return;
     history.certain[bin >> 6] |= uint64_t{1} << (bin & 63);

@@ -49,7 +49,8 @@ class GlassCompletion {
   GridGeometry geometry_;
   double max_gap_;
   std::vector<Run> runs_;
-  std::vector<uint8_t> visited_;  // per box cell, while collecting runs
+  std::vector<uint8_t> visited_;  // per box cell, while collecting runs (zero in between)
+  std::vector<int> visited_cells_;
   std::vector<int> completed_;
   std::vector<int> bin_counts_;
 };

@@ -20,6 +20,15 @@ inline bool maskBit(const uint64_t* mask, int bin) {
   return (mask[bin >> 6] >> (bin & 63)) & 1u;
 }
 
+// Calls visit(bin) for every set bit of a mask of `words` words, in increasing order.
+template <typename Visit>
+void forEachMaskBit(const uint64_t* mask, int words, Visit&& visit) {
+  for (int w = 0; w < words; ++w) {
+    for (uint64_t word = mask[w]; word != 0; word &= word - 1)
+      visit(64 * w + __builtin_ctzll(word));
+  }
+}
+
 // The Reflectance Field Map inside a robot-centred active region (paper Sec. III):
 // one int8 log-odds Bayes filter per (x, y, theta) bin, stored bin-major ([bin][y][x]) in a
 // rolling window of tiles so a ray, which updates a single theta slice, touches contiguous
