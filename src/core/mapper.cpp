@@ -581,6 +581,7 @@ void Mapper::reset() {
   impl_->blocking_cells = 0;
   impl_->clearance.clear();
   impl_->buffer.clear();
+  impl_->completed_tiles.clear();
   impl_->stats = MapperStats();
 }
 
@@ -605,6 +606,7 @@ bool Mapper::load(std::istream& in) {
   impl_->blocking_cells = 0;
   impl_->clearance.clear();
   impl_->buffer.clear();
+  impl_->completed_tiles.clear();
   impl_->frozen.clear();
   return true;
 }
