@@ -59,8 +59,7 @@ struct BufferedScan {
 struct Mapper::Impl {
   Impl(const MapperOptions& options, const ReflectanceField& field)
       : rule(options.occupancy, field.geometry().binWidth()),
-        anchors(anchorRules(options, field.geometry())),
-        remover(rule, anchors),
+        remover(rule, anchorRules(options, field.geometry())),
         runner(std::make_shared<ParallelRunner>(options.insertion.insertion_threads)),
         inserter(runner),
         classes(static_cast<size_t>(field.window().sizeCells()) * field.window().sizeCells(),
@@ -71,6 +70,7 @@ struct Mapper::Impl {
     // Departures read the history of the cells that could be widely visible (no fewer bins
     // can be). Not of cells merely confirmed for the persistence time: glass confirmed that way
     // is seen through in its jittered lobe's edge bins later, which reads as a departure.
+    const AnchorRules& anchors = remover.anchors();
     if (anchors.departure_min_bins > 0 || anchors.departure_vacant_ticks > 0) {
       remembered_min_bins =
           rule.minWidelyVisibleBins(field.logOdds(), field.geometry().thetaBins());
@@ -81,7 +81,6 @@ struct Mapper::Impl {
   }
 
   OccupancyRule rule;
-  AnchorRules anchors;
   MotionRemover remover;
   // The mapper's threads (insertion_threads), for one job at a time: insertion (by theta bin),
   // re-centring (by tile), the reflection check (by ray), motion removal (by band of rows) and

@@ -45,6 +45,12 @@ struct DirectField {
     return classes[static_cast<size_t>(cell.y() - box.min.y()) * box.width() + cell.x() -
                    box.min.x()];
   }
+  // classify() with one anchor rule set to `value` on top of `base`.
+  CellClass classifyWith(const CellIndex& cell, int AnchorRules::*rule, int value,
+                         AnchorRules base = AnchorRules()) {
+    base.*rule = value;
+    return classify(cell, base);
+  }
   ReflectanceField field;
 };
 
@@ -158,14 +164,10 @@ TEST(MotionRemover, DepartedCellsAnchorNothing) {
     for (int bin = 10; bin < 13; ++bin)
       f.field.applyMiss(spot, bin);
   }
-  auto class_with = [&](int departure_min_bins) {
-    AnchorRules anchors;
-    anchors.departure_min_bins = departure_min_bins;
-    return f.classify(spot, anchors);
-  };
-  EXPECT_EQ(class_with(0), CellClass::kStatic);
-  EXPECT_EQ(class_with(3), CellClass::kMotion);
-  EXPECT_EQ(class_with(4), CellClass::kStatic);
+  const auto rule = &AnchorRules::departure_min_bins;
+  EXPECT_EQ(f.classifyWith(spot, rule, 0), CellClass::kStatic);
+  EXPECT_EQ(f.classifyWith(spot, rule, 3), CellClass::kMotion);
+  EXPECT_EQ(f.classifyWith(spot, rule, 4), CellClass::kStatic);
 }
 
 // A person seen from all around while standing still, then seen through only from directions
@@ -182,14 +184,10 @@ TEST(MotionRemover, VacantCellsAnchorNothing) {
     f.field.tickPersistence(1);
   }
   ASSERT_EQ(f.field.vacantTicksAt(f.field.window().storageIndex(spot)), 2);
-  auto class_with = [&](int vacant_ticks) {
-    AnchorRules anchors;
-    anchors.departure_vacant_ticks = vacant_ticks;
-    return f.classify(spot, anchors);
-  };
-  EXPECT_EQ(class_with(0), CellClass::kStatic);
-  EXPECT_EQ(class_with(2), CellClass::kMotion);
-  EXPECT_EQ(class_with(3), CellClass::kStatic);
+  const auto rule = &AnchorRules::departure_vacant_ticks;
+  EXPECT_EQ(f.classifyWith(spot, rule, 0), CellClass::kStatic);
+  EXPECT_EQ(f.classifyWith(spot, rule, 2), CellClass::kMotion);
+  EXPECT_EQ(f.classifyWith(spot, rule, 3), CellClass::kStatic);
 }
 
 // A person who stood long enough to be confirmed, then left: the robot looks through the spot
@@ -208,15 +206,12 @@ TEST(MotionRemover, AbandonedPersistentCellsAnchorNothing) {
       f.field.applyMiss({x, 5}, 90);
     f.field.tickPersistence(1000, kConfirmed);
   }
-  auto class_with = [&](int vacant_ticks) {
-    AnchorRules anchors;
-    anchors.persistence_ticks = kConfirmed;
-    anchors.departure_vacant_ticks = vacant_ticks;
-    return f.classify({-10, 5}, anchors);
-  };
-  EXPECT_EQ(class_with(0), CellClass::kGlass);
-  EXPECT_EQ(class_with(2), CellClass::kMotion);
-  EXPECT_EQ(class_with(3), CellClass::kGlass);
+  AnchorRules confirmed;
+  confirmed.persistence_ticks = kConfirmed;
+  const auto rule = &AnchorRules::departure_vacant_ticks;
+  EXPECT_EQ(f.classifyWith({-10, 5}, rule, 0, confirmed), CellClass::kGlass);
+  EXPECT_EQ(f.classifyWith({-10, 5}, rule, 2, confirmed), CellClass::kMotion);
+  EXPECT_EQ(f.classifyWith({-10, 5}, rule, 3, confirmed), CellClass::kGlass);
 }
 
 // A wall glimpsed through a doorway: each cell reflective in a few bins, never seen through.

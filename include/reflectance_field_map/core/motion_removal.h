@@ -55,6 +55,8 @@ class MotionRemover {
   explicit MotionRemover(const OccupancyRule& rule, const AnchorRules& anchors = AnchorRules())
       : rule_(rule), anchors_(anchors) {}
 
+  const AnchorRules& anchors() const { return anchors_; }
+
   // Classifies every cell of `box` (inside the field's active window) into `classes`
   // (row-major, x fastest). `outside` gives the known class of cells just outside the box and
   // must be safe to call from several threads. With a `runner`, bands of rows are processed

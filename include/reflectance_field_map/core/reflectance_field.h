@@ -305,7 +305,7 @@ class ReflectanceField {
   std::unordered_map<int, CellHistory> reflective_history_;  // by storage index
   struct ConfirmedHistory {
     std::vector<uint64_t> certain;  // bins at the clamp at a tick while confirmed (mask words)
-    std::vector<int8_t> at_tick;    // every bin's log-odds at the last tick
+    std::vector<int8_t> at_tick;    // by bin: a certain bin's log-odds at the last tick
     uint8_t abandoned_ticks = 0;
   };
   std::unordered_map<int, ConfirmedHistory> confirmed_history_;  // by storage index
