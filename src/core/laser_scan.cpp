@@ -31,6 +31,31 @@ std::string LaserScan2D::validate() const {
   return why.str();
 }
 
+namespace {
+
+float lastBeamAngle(const LaserScan2D& scan) {
+  const size_t beams = std::max<size_t>(scan.ranges.size(), 1);
+  return scan.angle_min + scan.angle_increment * static_cast<float>(beams - 1);
+}
+
+}  // namespace
+
+void reverseBeamOrder(LaserScan2D& scan) {
+  const float span = scan.angle_max - scan.angle_min;  // negative, like the increment
+  scan.angle_min = lastBeamAngle(scan);
+  scan.angle_increment = -scan.angle_increment;
+  scan.angle_max = scan.angle_min - span;
+  std::reverse(scan.ranges.begin(), scan.ranges.end());
+}
+
+void mirrorScan(LaserScan2D& scan) {
+  // Beam k at angle a_k in the upside-down frame points at -a_k seen from above.
+  const float span = scan.angle_max - scan.angle_min;
+  scan.angle_min = -lastBeamAngle(scan);
+  scan.angle_max = scan.angle_min + span;
+  std::reverse(scan.ranges.begin(), scan.ranges.end());
+}
+
 BeamReading classifyBeam(float range, float range_min, float range_max) {
   if (std::isnan(range)) return BeamReading::kInvalid;
   if (std::isinf(range)) return range > 0 ? BeamReading::kNoReturn : BeamReading::kInvalid;

@@ -1,6 +1,6 @@
 #include "reflectance_field_map/offline/bag_input.h"
 
-#include "conversions.h"
+#include "reflectance_field_map/ros/conversions.h"
 
 #include <rosbag/bag.h>
 #include <rosbag/exceptions.h>
@@ -190,7 +190,10 @@ BagScans readBagScans(const BagInputOptions& options,
       TimedScan scan;
       scan.sensor_id = source.topic_index;
       scan.stamp = source.stamp.toSec();
-      scan.scan = toLaserScan2D(*msg, &source.reversed);
+      scan.scan = reflectance_field_map::toLaserScan2D(*msg);
+      // The node rejects these; a recording is taken as it is (none of its scans dropped).
+      source.reversed = scan.scan.angle_increment < 0.0f && !scan.scan.ranges.empty();
+      if (source.reversed) reverseBeamOrder(scan.scan);
       const std::string problem = scan.scan.validate();
       if (!problem.empty())
         malformed.add(source.topic_index, "t=" + stampText(source.stamp) + ": " + problem);
@@ -235,9 +238,12 @@ BagScans readBagScans(const BagInputOptions& options,
       } else {
         const geometry_msgs::TransformStamped laser =
             tf.lookupTransform(fixed_frame, frame, source.stamp);
-        scan.sensor_pose = toPose2D(laser.transform);
-        if (isUpsideDown(laser.transform)) {
-          mirrorScan(scan.scan, &source.reversed);
+        const reflectance_field_map::PlanarSensorPose sensor =
+            reflectance_field_map::toPlanarSensorPose(laser.transform);
+        scan.sensor_pose = sensor.pose;
+        if (sensor.upside_down) {
+          mirrorScan(scan.scan);
+          source.reversed = !source.reversed;
           ++upside_down;
         }
       }
@@ -246,8 +252,8 @@ BagScans readBagScans(const BagInputOptions& options,
       } else if (!bag_has_tf) {
         scan.robot_pose = scan.sensor_pose;  // stationary sensor: it is the centre
       } else {
-        scan.robot_pose =
-            toPose2D(tf.lookupTransform(fixed_frame, base_frame, source.stamp).transform);
+        scan.robot_pose = reflectance_field_map::toPose2D(
+            tf.lookupTransform(fixed_frame, base_frame, source.stamp).transform);
       }
     } catch (const tf2::TransformException& e) {
       no_tf.add(source.topic_index, "t=" + stampText(source.stamp) + ": " + e.what());

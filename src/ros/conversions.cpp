@@ -34,23 +34,13 @@ PlanarSensorPose toPlanarSensorPose(const geometry_msgs::Transform& transform) {
 
 rfm::LaserScan2D toLaserScan2D(const sensor_msgs::LaserScan& msg, bool upside_down) {
   rfm::LaserScan2D scan;
+  scan.angle_min = msg.angle_min;
+  scan.angle_max = msg.angle_max;
   scan.angle_increment = msg.angle_increment;
   scan.range_min = msg.range_min;
   scan.range_max = msg.range_max;
   scan.ranges = msg.ranges;
-  if (!upside_down) {
-    scan.angle_min = msg.angle_min;
-    scan.angle_max = msg.angle_max;
-  } else {
-    // Beam k at angle a_k in the flipped frame points at yaw - a_k in the plane: reversed, the
-    // beams sweep counter-clockwise from -(angle of the last beam) with the same increment.
-    const float last =
-        msg.angle_min +
-        static_cast<float>(msg.ranges.empty() ? 0 : msg.ranges.size() - 1) * msg.angle_increment;
-    scan.angle_min = -last;
-    scan.angle_max = -msg.angle_min;
-    std::reverse(scan.ranges.begin(), scan.ranges.end());
-  }
+  if (upside_down) rfm::mirrorScan(scan);
   return scan;
 }
 

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <string>
+#include <utility>
 
 namespace rfm {
 namespace {
@@ -124,6 +126,70 @@ TEST(LaserScanValidate, RejectsMalformedScans) {
   nan_angle.angle_min = std::nanf("");
   EXPECT_FALSE(nan_angle.validate().empty());
   EXPECT_FALSE(fourBeamScan({}).validate().empty());
+}
+
+// The direction of every beam with a range, keyed by its range (the ranges below are unique).
+std::vector<std::pair<float, double>> beamDirections(const LaserScan2D& scan, double yaw) {
+  InsertionOptions options;
+  std::vector<Ray> rays;
+  scanToRays(scan, Pose2D{{0.0, 0.0}, yaw}, options, rays);
+  std::vector<std::pair<float, double>> directions;
+  for (const Ray& ray : rays)
+    directions.push_back({scan.ranges[ray.beam], std::remainder(ray.angle, 2 * kPi)});
+  std::sort(directions.begin(), directions.end());
+  return directions;
+}
+
+// A scan swept clockwise (negative increment) with a beam count that its angles may or may
+// not account for.
+LaserScan2D clockwiseScan(std::vector<float> ranges) {
+  LaserScan2D scan = fourBeamScan(std::move(ranges));
+  scan.angle_min = 1.0f;
+  scan.angle_increment = -0.25f;
+  scan.angle_max = 0.25f;  // 4 beams: 1, 0.75, 0.5, 0.25
+  return scan;
+}
+
+TEST(ReverseBeamOrder, KeepsEveryBeamsDirectionAndTheCountCheck) {
+  const LaserScan2D clockwise = clockwiseScan({1, 2, 3, 4});
+  LaserScan2D reversed = clockwise;
+  reverseBeamOrder(reversed);
+  EXPECT_GT(reversed.angle_increment, 0.0f);
+  EXPECT_EQ(reversed.validate(), "");
+  EXPECT_EQ(reversed.ranges, (std::vector<float>{4, 3, 2, 1}));
+  // Beam i of the original heads angle_min + i * increment, clockwise (unvalidated geometry).
+  for (size_t i = 0; i < clockwise.ranges.size(); ++i) {
+    const double original = 1.0 - 0.25 * static_cast<double>(i);
+    const size_t j = clockwise.ranges.size() - 1 - i;
+    EXPECT_NEAR(reversed.angle_min + reversed.angle_increment * j, original, 1e-6);
+  }
+  // Too few or too many beams for the angles stay malformed once reversed.
+  for (const std::vector<float>& ranges : {std::vector<float>{1, 2}, {1, 2, 3, 4, 5}}) {
+    LaserScan2D wrong = clockwiseScan(ranges);
+    reverseBeamOrder(wrong);
+    EXPECT_NE(wrong.validate().find(std::to_string(ranges.size()) + " ranges"), std::string::npos)
+        << wrong.validate();
+  }
+}
+
+TEST(MirrorScan, NegatesEveryBeamsDirectionAndKeepsTheCountCheck) {
+  LaserScan2D scan = fourBeamScan({1, 2, 3, 4});
+  scan.angle_min = 0.1f;
+  scan.angle_increment = 0.3f;
+  scan.angle_max = 1.0f;
+  LaserScan2D mirrored = scan;
+  mirrorScan(mirrored);
+  EXPECT_EQ(mirrored.validate(), "");
+  const auto before = beamDirections(scan, 0.0), after = beamDirections(mirrored, 0.0);
+  ASSERT_EQ(before.size(), after.size());
+  for (size_t i = 0; i < before.size(); ++i) {
+    EXPECT_EQ(before[i].first, after[i].first);
+    EXPECT_NEAR(after[i].second, -before[i].second, 1e-6) << "range " << before[i].first;
+  }
+  LaserScan2D truncated = scan;
+  truncated.ranges.resize(2);
+  mirrorScan(truncated);
+  EXPECT_NE(truncated.validate().find("2 ranges"), std::string::npos) << truncated.validate();
 }
 
 }  // namespace

@@ -82,7 +82,8 @@ double robotX(double t) {
 
 // Two lidars on a robot driving along x in a square room. The rear lidar looks backwards and
 // reports its beams clockwise (negative angle_increment). Beam 0 of every scan is NaN.
-void writeRobotBag(const std::string& path, bool with_tf) {
+// With `short_scan` >= 0, that scan of each lidar lost the second half of its ranges.
+void writeRobotBag(const std::string& path, bool with_tf, int short_scan = -1) {
   rosbag::Bag bag(path, rosbag::bagmode::Write);
   if (with_tf) {
     tf2_msgs::TFMessage statics;
@@ -115,6 +116,7 @@ void writeRobotBag(const std::string& path, bool with_tf) {
         scan.ranges.push_back(b == 0 ? std::numeric_limits<float>::quiet_NaN()
                                      : roomRange(lx, 0.0, angle));
       }
+      if (i == short_scan) scan.ranges.resize(kBeams / 2);
       bag.write(rear ? "/scan_rear" : "/scan_front", ros::Time(t + 0.001), scan);
     }
   }
@@ -296,6 +298,18 @@ TEST_F(OfflineEndToEnd, MissingTransformsAreCounted) {
   EXPECT_NE(run.output.find("40 of 40 scans"), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("/scan_front: 20 of 20"), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("--base-frame"), std::string::npos) << run.output;
+}
+
+// A scan with fewer ranges than its angles say would put every beam at a wrong bearing.
+TEST_F(OfflineEndToEnd, ScansWithTooFewRangesAreRejected) {
+  writeRobotBag(path("in.bag"), true, /*short_scan=*/3);
+  const RunResult run = runOffline("--bag " + path("in.bag") + " --out " + path("out"));
+  EXPECT_EQ(run.code, 1) << run.output;
+  EXPECT_NE(run.output.find("2 of 40 scans are malformed"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("/scan_front: 1 of 20"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("/scan_rear: 1 of 20"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("90 ranges"), std::string::npos) << run.output;
+  EXPECT_FALSE(fs::exists(path("out/labels.bag")));
 }
 
 TEST_F(OfflineEndToEnd, ClearErrors) {
