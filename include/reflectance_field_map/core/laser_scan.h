@@ -24,10 +24,10 @@ struct LaserScan2D {
   std::string validate() const;
 };
 
-// Both keep every beam's direction and angle_max's span from angle_min, so validate() judges
-// the beam count as it did before (drivers differ on what angle_max means).
-// For a scan whose angle_increment is negative: the beams in reverse order, swept with a
-// positive increment.
+// The two functions below keep angle_max's span from angle_min, so validate() judges the beam
+// count as before (drivers differ on what angle_max means).
+// For a scan whose angle_increment is negative: the same beams, each keeping its direction,
+// in reverse order, swept with a positive increment.
 void reverseBeamOrder(LaserScan2D& scan);
 // For a laser mounted upside down (its z axis pointing down), which sweeps clockwise seen from
 // above: the scan as seen from above, beams reversed and angles negated.
