@@ -51,6 +51,14 @@ struct DirectField {
     base.*rule = value;
     return classify(cell, base);
   }
+  // The cell's blob is `anchored` with `rule` off (0), motion with the rule at `met` (what the
+  // cell reaches) and `anchored` again one above it.
+  void expectRuleMetExactlyAt(const CellIndex& cell, int AnchorRules::*rule, int met,
+                              CellClass anchored, const AnchorRules& base = AnchorRules()) {
+    EXPECT_EQ(classifyWith(cell, rule, 0, base), anchored) << "rule off";
+    EXPECT_EQ(classifyWith(cell, rule, met, base), CellClass::kMotion) << "rule at " << met;
+    EXPECT_EQ(classifyWith(cell, rule, met + 1, base), anchored) << "rule at " << met + 1;
+  }
   ReflectanceField field;
 };
 
@@ -164,10 +172,7 @@ TEST(MotionRemover, DepartedCellsAnchorNothing) {
     for (int bin = 10; bin < 13; ++bin)
       f.field.applyMiss(spot, bin);
   }
-  const auto rule = &AnchorRules::departure_min_bins;
-  EXPECT_EQ(f.classifyWith(spot, rule, 0), CellClass::kStatic);
-  EXPECT_EQ(f.classifyWith(spot, rule, 3), CellClass::kMotion);
-  EXPECT_EQ(f.classifyWith(spot, rule, 4), CellClass::kStatic);
+  f.expectRuleMetExactlyAt(spot, &AnchorRules::departure_min_bins, 3, CellClass::kStatic);
 }
 
 // A person seen from all around while standing still, then seen through only from directions
@@ -184,10 +189,7 @@ TEST(MotionRemover, VacantCellsAnchorNothing) {
     f.field.tickPersistence(1);
   }
   ASSERT_EQ(f.field.vacantTicksAt(f.field.window().storageIndex(spot)), 2);
-  const auto rule = &AnchorRules::departure_vacant_ticks;
-  EXPECT_EQ(f.classifyWith(spot, rule, 0), CellClass::kStatic);
-  EXPECT_EQ(f.classifyWith(spot, rule, 2), CellClass::kMotion);
-  EXPECT_EQ(f.classifyWith(spot, rule, 3), CellClass::kStatic);
+  f.expectRuleMetExactlyAt(spot, &AnchorRules::departure_vacant_ticks, 2, CellClass::kStatic);
 }
 
 // A person who stood long enough to be confirmed, then left: the robot looks through the spot
@@ -208,10 +210,8 @@ TEST(MotionRemover, AbandonedPersistentCellsAnchorNothing) {
   }
   AnchorRules confirmed;
   confirmed.persistence_ticks = kConfirmed;
-  const auto rule = &AnchorRules::departure_vacant_ticks;
-  EXPECT_EQ(f.classifyWith({-10, 5}, rule, 0, confirmed), CellClass::kGlass);
-  EXPECT_EQ(f.classifyWith({-10, 5}, rule, 2, confirmed), CellClass::kMotion);
-  EXPECT_EQ(f.classifyWith({-10, 5}, rule, 3, confirmed), CellClass::kGlass);
+  f.expectRuleMetExactlyAt({-10, 5}, &AnchorRules::departure_vacant_ticks, 2, CellClass::kGlass,
+                           confirmed);
 }
 
 // A wall glimpsed through a doorway: each cell reflective in a few bins, never seen through.
