@@ -2,6 +2,7 @@
 
 #include "reflectance_field_map/core/plain_occupancy_grid.h"
 #include "reflectance_field_map/core/ray_classification.h"
+#include "reflectance_field_map/core/ray_insertion.h"
 
 #include <algorithm>
 #include <chrono>
@@ -17,14 +18,15 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
       .count();
 }
 
-// The square region holding every sensor origin and every return: the batch keeps the whole
-// recording in one active region centred on it, so motion removal and labelling see it all.
+// The square region holding every sensor origin and all evidence (rays up to the active-region
+// radius): the batch keeps the whole recording in one window centred on it, so motion removal and
+// labelling see it all.
 struct Extent {
   Eigen::Vector2d centre{0.0, 0.0};
   double half_side = 0.0;
 };
 
-Extent recordingExtent(const std::vector<TimedScan>& scans, const InsertionOptions& insertion) {
+Extent recordingExtent(const std::vector<TimedScan>& scans, const MapperOptions& options) {
   Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector2d high = -low;
   std::vector<Ray> rays;
@@ -32,8 +34,9 @@ Extent recordingExtent(const std::vector<TimedScan>& scans, const InsertionOptio
     if (!scan.scan.validate().empty()) continue;
     low = low.cwiseMin(scan.sensor_pose.position);
     high = high.cwiseMax(scan.sensor_pose.position);
-    scanToRays(scan.scan, scan.sensor_pose, insertion, rays);
-    for (const Ray& ray : rays) {
+    scanToRays(scan.scan, scan.sensor_pose, options.insertion, rays);
+    for (Ray& ray : rays) {
+      clipRayToLength(options.active_region.active_region_radius, ray);
       low = low.cwiseMin(ray.end);
       high = high.cwiseMax(ray.end);
     }
@@ -79,8 +82,7 @@ BatchResult processPlainGrid(const std::vector<TimedScan>& scans, MapperOptions 
                              const Extent& extent,
                              const std::function<void(size_t, size_t)>& progress) {
   BatchResult result;
-  options.active_region.active_region_radius = std::max(options.active_region.active_region_radius,
-                                                        extent.half_side + options.grid.resolution);
+  options.active_region.window_radius = extent.half_side + options.grid.resolution;
   PlainOccupancyGrid grid(options.grid, options.log_odds, options.active_region);
   grid.recenter(extent.centre);
   std::vector<Ray> rays;
@@ -88,6 +90,9 @@ BatchResult processPlainGrid(const std::vector<TimedScan>& scans, MapperOptions 
   for (size_t i = 0; i < scans.size(); ++i) {
     if (scans[i].scan.validate().empty()) {
       scanToRays(scans[i].scan, scans[i].sensor_pose, options.insertion, rays);
+      // The same evidence range as the RFM (Table II compares the two on the same rays).
+      for (Ray& ray : rays)
+        clipRayToLength(options.active_region.active_region_radius, ray);
       grid.insert(rays);
     }
     if (progress) progress(i + 1, 2 * scans.size());
@@ -110,7 +115,11 @@ BatchResult processPlainGrid(const std::vector<TimedScan>& scans, MapperOptions 
     if (scans[i].scan.validate().empty()) {
       scanToRays(scans[i].scan, scans[i].sensor_pose, options.insertion, rays);
       for (const Ray& ray : rays) {
-        if (ray.hit) labels[ray.beam] = labelEndpoint(geometry.cellOf(ray.end), true, class_of);
+        if (!ray.hit) continue;
+        const CellIndex end_cell = geometry.cellOf(ray.end);
+        const bool judged =
+            judgedByFinalMap(ray, options.active_region.active_region_radius, class_of(end_cell));
+        labels[ray.beam] = labelEndpoint(end_cell, judged, class_of);
       }
     }
     if (progress) progress(scans.size() + i + 1, 2 * scans.size());
@@ -125,7 +134,7 @@ BatchResult processBatch(const std::vector<TimedScan>& input, const MapperOption
                          BatchMode mode, const std::function<void(size_t, size_t)>& progress,
                          const std::function<void(const ReflectanceField&)>& inspect_field) {
   requested.validate();
-  const Extent extent = recordingExtent(input, requested.insertion);
+  const Extent extent = recordingExtent(input, requested);
   if (mode == BatchMode::kPlainGrid) return processPlainGrid(input, requested, extent, progress);
 
   MapperOptions options = requested;
@@ -133,8 +142,7 @@ BatchResult processBatch(const std::vector<TimedScan>& input, const MapperOption
   options.motion_removal.motion_removal_enabled &= mode != BatchMode::kBasicRfm;
   options.reflection_removal.reflection_removal_enabled &= mode == BatchMode::kFull;
   options.reflection_removal.scan_buffer_size = 0;  // batch re-processes every scan instead
-  options.active_region.active_region_radius = std::max(options.active_region.active_region_radius,
-                                                        extent.half_side + options.grid.resolution);
+  options.active_region.window_radius = extent.half_side + options.grid.resolution;
   const std::vector<TimedScan> scans = centredOn(input, extent.centre);
 
   Mapper mapper(options);

@@ -458,7 +458,11 @@ std::vector<RayLabel> Mapper::labelScan(const TimedScan& scan, bool final_map) c
       labels[ray.beam] = RayLabel::kReflection;
       continue;
     }
-    labels[ray.beam] = labelEndpoint(field_.geometry().cellOf(ray.end), final_map, class_of);
+    const CellIndex end_cell = field_.geometry().cellOf(ray.end);
+    const bool judged =
+        final_map &&
+        judgedByFinalMap(ray, options_.active_region.active_region_radius, class_of(end_cell));
+    labels[ray.beam] = labelEndpoint(end_cell, judged, class_of);
   }
   return labels;
 }
@@ -478,12 +482,7 @@ void Mapper::clipToActiveRegion(std::vector<Ray>& rays) const {
   size_t kept = 0;
   for (Ray& ray : rays) {
     // Evidence only within the active-region radius of the sensor, live and in batch alike.
-    const Eigen::Vector2d delta = ray.end - ray.origin;
-    const double length = delta.norm();
-    if (length > radius) {
-      ray.end = ray.origin + delta * (radius / length);
-      ray.hit = false;
-    }
+    clipRayToLength(radius, ray);
     if (clipRayToBox(box, resolution, ray)) rays[kept++] = ray;
   }
   rays.resize(kept);

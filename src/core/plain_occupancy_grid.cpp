@@ -30,7 +30,7 @@ struct PlainOccupancyGrid::Target {
 PlainOccupancyGrid::PlainOccupancyGrid(const GridOptions& grid, const LogOddsOptions& log_odds,
                                        const ActiveRegionOptions& region)
     : window_(grid.tile_cells,
-              activeWindowTiles(region.active_region_radius, grid.resolution, grid.tile_cells)),
+              activeWindowTiles(region.windowRadius(), grid.resolution, grid.tile_cells)),
       resolution_(grid.resolution),
       log_odds_(log_odds),
       cells_(static_cast<size_t>(window_.sizeCells()) * window_.sizeCells(), 0) {}

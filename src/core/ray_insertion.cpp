@@ -38,6 +38,15 @@ bool clipRayToBox(const CellBox& box, double resolution, Ray& ray) {
   return true;
 }
 
+void clipRayToLength(double max_length, Ray& ray) {
+  const Eigen::Vector2d delta = ray.end - ray.origin;
+  const double length = delta.norm();
+  if (length > max_length) {
+    ray.end = ray.origin + delta * (max_length / length);
+    ray.hit = false;
+  }
+}
+
 void DeduplicatingRayInserter::prepare(size_t slots) {
   if (stamps_.size() != slots) {
     stamps_.assign(slots, 0);

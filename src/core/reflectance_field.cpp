@@ -33,7 +33,7 @@ ReflectanceField::ReflectanceField(const GridOptions& grid, const LogOddsOptions
     : geometry_(grid.resolution, grid.theta_bins),
       log_odds_(log_odds),
       window_(grid.tile_cells,
-              activeWindowTiles(region.active_region_radius, grid.resolution, grid.tile_cells)),
+              activeWindowTiles(region.windowRadius(), grid.resolution, grid.tile_cells)),
       theta_bins_(grid.theta_bins),
       plane_(static_cast<size_t>(window_.sizeCells()) * window_.sizeCells()),
       mask_words_((grid.theta_bins + 63) / 64),

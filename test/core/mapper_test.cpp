@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <sstream>
 
 namespace rfm {
@@ -216,6 +217,57 @@ TEST(BatchProcessor, PlainGridBaselineErasesGlassThatTheRfmKeeps) {
   };
   EXPECT_GT(pane_kept(full.map), 0.9);
   EXPECT_LT(pane_kept(baseline.map), 0.5);
+}
+
+// A corridor 3 m wide, closed 15.5 m ahead of where the robot starts.
+SyntheticWorld longCorridor() {
+  SyntheticWorld world;
+  world.addWall({-1.0, -1.5}, {15.5, -1.5});
+  world.addWall({-1.0, 1.5}, {15.5, 1.5});
+  world.addWall({15.5, -1.5}, {15.5, 1.5});
+  world.addWall({-1.0, -1.5}, {-1.0, 1.5});
+  return world;
+}
+
+TEST(BatchProcessor, RaysAddEvidenceOnlyWithinTheRadiusAsLive) {
+  // The robot never comes within 5 m of the corridor's end, which lies inside the batch's window.
+  // A person stands 7-8 m ahead of it at first (too far to add evidence), then leaves, and the
+  // robot drives over the spot.
+  SyntheticWorld world = longCorridor();
+  MapperOptions options;
+  options.active_region.active_region_radius = 5.0;
+  const Eigen::Vector2d person(8.0, 0.0);
+  std::vector<TimedScan> scans;
+  size_t scans_with_person = 0;
+  for (const auto& step : driveBy({0.0, 0.0}, {10.0, 0.0}, 0.0)) {
+    world.people.clear();
+    if (step.robot.position.x() < 1.0) {
+      world.people.push_back({person, 0.25});
+      ++scans_with_person;
+    }
+    scans.push_back(world.timedScan(step.robot, 0.025 * scans.size()));
+  }
+  const int ahead = 540;  // the beam along the corridor
+  const GridGeometry g(0.05, 180);
+  for (BatchMode mode : {BatchMode::kBasicRfm, BatchMode::kFull, BatchMode::kPlainGrid}) {
+    SCOPED_TRACE(static_cast<int>(mode));
+    const BatchResult result = processBatch(scans, options, mode);
+    ASSERT_EQ(result.labels.size(), scans.size());
+    // The end wall, 5.5 m or more from every view, got no evidence: unknown, as live.
+    for (const CellIndex& end_wall : {g.cellOf({15.48, 0.0}), g.cellOf({15.48, 1.0})}) {
+      EXPECT_TRUE(result.map.bounds().contains(end_wall));
+      EXPECT_EQ(result.map.get(end_wall), CellClass::kUnknown);
+    }
+    // Beams ending there are not judged: kept.
+    for (size_t i = scans_with_person; i < scans.size(); ++i)
+      ASSERT_EQ(result.labels[i][ahead], RayLabel::kKept) << "scan " << i;
+    // The person's spot was seen free from closer: the beams that ended on the person are judged.
+    EXPECT_EQ(occupancyValue(result.map.get(g.cellOf(person))), 0);
+    for (size_t i = 0; i < scans_with_person; ++i) {
+      ASSERT_TRUE(std::isfinite(scans[i].scan.ranges[ahead]));
+      ASSERT_NE(result.labels[i][ahead], RayLabel::kKept) << "scan " << i;
+    }
+  }
 }
 
 }  // namespace

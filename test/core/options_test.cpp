@@ -63,6 +63,26 @@ TEST(MapperOptions, EveryBadValueIsRejectedNamingTheField) {
   }
 }
 
+// window_radius is set by the batch, not a parameter, and is checked all the same.
+TEST(MapperOptions, BadWindowRadiusIsRejected) {
+  for (double value : {-1.0, 1e5, std::numeric_limits<double>::quiet_NaN()}) {
+    MapperOptions options;
+    options.active_region.window_radius = value;
+    try {
+      options.validate();
+      ADD_FAILURE() << "window_radius = " << value << " was accepted";
+    } catch (const InvalidOption& error) {
+      EXPECT_EQ(error.field(), "window_radius");
+    }
+  }
+  MapperOptions options;
+  options.active_region.window_radius = 30.0;
+  EXPECT_NO_THROW(options.validate());
+  EXPECT_DOUBLE_EQ(options.active_region.windowRadius(), 30.0);
+  options.active_region.window_radius = 0.0;
+  EXPECT_DOUBLE_EQ(options.active_region.windowRadius(), 10.0);
+}
+
 TEST(MapperOptions, DefaultsAreValidAndMatchThePaper) {
   const MapperOptions options;
   EXPECT_NO_THROW(options.validate());

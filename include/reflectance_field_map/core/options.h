@@ -1,5 +1,6 @@
 #pragma once
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -48,7 +49,12 @@ struct InsertionOptions {
 };
 
 struct ActiveRegionOptions {
-  double active_region_radius = 10.0;  // m, robot-centred window where the field is updated
+  // m: rays add evidence within this distance of their sensor, into a robot-centred window.
+  double active_region_radius = 10.0;
+  // m: a window larger than the radius needs (0: none). Not a parameter: the batch holds a whole
+  // recording in one window, and its rays still add evidence only within the radius.
+  double window_radius = 0.0;
+  double windowRadius() const { return std::max(active_region_radius, window_radius); }
   void validate() const;
 };
 

@@ -115,6 +115,13 @@ double firstPassThroughDistance(const Ray& ray, const GridGeometry& geometry,
   return detector.distance();
 }
 
+// Whether a beam's endpoint is judged against the final map. A beam longer than the evidence
+// range (active_region_radius) added nothing at its end: an end cell that no ray observed is not
+// taken for erased evidence, but left unjudged (kept), as live.
+inline bool judgedByFinalMap(const Ray& ray, double evidence_range, CellClass end_class) {
+  return end_class != CellClass::kUnknown || (ray.end - ray.origin).norm() <= evidence_range;
+}
+
 // How a ray's endpoint is judged against a map (paper Sec. VI-A): kept when the end cell, or one
 // of its 8 neighbours (discretisation), is an obstacle; otherwise its evidence did not survive:
 // motion (a transient object, or erased evidence when `final_map`).

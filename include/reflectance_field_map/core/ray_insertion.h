@@ -18,6 +18,8 @@ namespace rfm {
 // Clips a ray to the window's box. A ray whose end lies outside keeps its misses up to the
 // border and loses its hit. Returns false when nothing of the ray is inside.
 bool clipRayToBox(const CellBox& box, double resolution, Ray& ray);
+// Shortens a ray longer than `max_length` to that length; it then loses its hit.
+void clipRayToLength(double max_length, Ray& ray);
 
 // The per-scan update rule shared by the RFM and the plain grid (Alg. 1): every ray adds misses
 // to the cells it passes and a hit to its end cell; within one scan each storage slot of a
