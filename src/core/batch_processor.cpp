@@ -9,6 +9,8 @@
 #include <cmath>
 #include <limits>
 #include <set>
+#include <stdexcept>
+#include <string>
 
 namespace rfm {
 namespace {
@@ -135,6 +137,12 @@ BatchResult processBatch(const std::vector<TimedScan>& input, const MapperOption
                          const std::function<void(const ReflectanceField&)>& inspect_field) {
   requested.validate();
   const Extent extent = recordingExtent(input, requested);
+  if (extent.half_side + requested.grid.resolution > ActiveRegionOptions::kMaxWindowRadius) {
+    throw std::invalid_argument(
+        "the recording's evidence spans " + std::to_string(static_cast<int>(2 * extent.half_side)) +
+        " m: the batch holds it in one window, at most " +
+        std::to_string(static_cast<int>(2 * ActiveRegionOptions::kMaxWindowRadius)) + " m across");
+  }
   if (mode == BatchMode::kPlainGrid) return processPlainGrid(input, requested, extent, progress);
 
   MapperOptions options = requested;

@@ -51,7 +51,7 @@ void InsertionOptions::validate() const {
 
 void ActiveRegionOptions::validate() const {
   requireRange("active_region_radius", active_region_radius, 1.0, 200.0);
-  requireRange("window_radius", window_radius, 0.0, 10000.0);
+  requireRange("window_radius", window_radius, 0.0, kMaxWindowRadius);
 }
 
 void OccupancyOptions::validate() const {

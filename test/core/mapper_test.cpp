@@ -219,6 +219,21 @@ TEST(BatchProcessor, PlainGridBaselineErasesGlassThatTheRfmKeeps) {
   EXPECT_LT(pane_kept(baseline.map), 0.5);
 }
 
+TEST(BatchProcessor, RecordingTooLargeForOneWindowIsRejected) {
+  SyntheticWorld world = room();
+  const std::vector<TimedScan> scans = {world.timedScan(Pose2D{{0.0, 0.0}, 0.0}, 0.0),
+                                        world.timedScan(Pose2D{{420.0, 0.0}, 0.0}, 0.025)};
+  for (BatchMode mode : {BatchMode::kPlainGrid, BatchMode::kFull}) {
+    try {
+      processBatch(scans, MapperOptions{}, mode);
+      ADD_FAILURE() << "a recording 420 m across was accepted";
+    } catch (const std::invalid_argument& error) {
+      EXPECT_NE(std::string(error.what()).find("at most 400 m across"), std::string::npos)
+          << error.what();
+    }
+  }
+}
+
 // A corridor 3 m wide, closed 15.5 m ahead of where the robot starts.
 SyntheticWorld longCorridor() {
   SyntheticWorld world;

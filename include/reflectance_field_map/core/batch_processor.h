@@ -38,6 +38,8 @@ struct BatchResult {
 // iterative reflection removal over the final field and labels every beam against the final
 // map. Uses the same Mapper code as the live node. `progress(done, total)` may be empty.
 // `inspect_field`, when set, sees the final reflectance field (e.g. for theta-resolved pictures).
+// Throws std::invalid_argument when the recording is too large for one window
+// (ActiveRegionOptions::kMaxWindowRadius).
 BatchResult processBatch(const std::vector<TimedScan>& scans, const MapperOptions& options,
                          BatchMode mode, const std::function<void(size_t, size_t)>& progress = {},
                          const std::function<void(const ReflectanceField&)>& inspect_field = {});
