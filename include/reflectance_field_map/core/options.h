@@ -54,7 +54,7 @@ struct ActiveRegionOptions {
   // m: a window larger than the radius needs (0: none). Not a parameter: the batch holds a whole
   // recording in one window, and its rays still add evidence only within the radius.
   double window_radius = 0.0;
-  // About 13 GB of field at 5 cm and 180 bins.
+  // About 14 GB of field at 5 cm and 180 bins.
   static constexpr double kMaxWindowRadius = 200.0;  // m
   double windowRadius() const { return std::max(active_region_radius, window_radius); }
   void validate() const;
