@@ -6,6 +6,8 @@
 
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 
 namespace rfm {
 namespace {
