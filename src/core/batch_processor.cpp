@@ -20,6 +20,13 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
       .count();
 }
 
+// A scan's rays as far as they add evidence: within the active-region radius, as live.
+void evidenceRays(const TimedScan& scan, const MapperOptions& options, std::vector<Ray>& rays) {
+  scanToRays(scan.scan, scan.sensor_pose, options.insertion, rays);
+  for (Ray& ray : rays)
+    clipRayToLength(options.active_region.active_region_radius, ray);
+}
+
 // The square region holding every sensor origin and all evidence (rays up to the active-region
 // radius): the batch keeps the whole recording in one window centred on it, so motion removal and
 // labelling see it all.
@@ -36,9 +43,8 @@ Extent recordingExtent(const std::vector<TimedScan>& scans, const MapperOptions&
     if (!scan.scan.validate().empty()) continue;
     low = low.cwiseMin(scan.sensor_pose.position);
     high = high.cwiseMax(scan.sensor_pose.position);
-    scanToRays(scan.scan, scan.sensor_pose, options.insertion, rays);
-    for (Ray& ray : rays) {
-      clipRayToLength(options.active_region.active_region_radius, ray);
+    evidenceRays(scan, options, rays);
+    for (const Ray& ray : rays) {
       low = low.cwiseMin(ray.end);
       high = high.cwiseMax(ray.end);
     }
@@ -91,10 +97,8 @@ BatchResult processPlainGrid(const std::vector<TimedScan>& scans, MapperOptions 
   auto start = std::chrono::steady_clock::now();
   for (size_t i = 0; i < scans.size(); ++i) {
     if (scans[i].scan.validate().empty()) {
-      scanToRays(scans[i].scan, scans[i].sensor_pose, options.insertion, rays);
-      // The same evidence range as the RFM (Table II compares the two on the same rays).
-      for (Ray& ray : rays)
-        clipRayToLength(options.active_region.active_region_radius, ray);
+      // The same evidence as the RFM's (Table II compares the two on the same rays).
+      evidenceRays(scans[i], options, rays);
       grid.insert(rays);
     }
     if (progress) progress(i + 1, 2 * scans.size());
@@ -118,10 +122,8 @@ BatchResult processPlainGrid(const std::vector<TimedScan>& scans, MapperOptions 
       scanToRays(scans[i].scan, scans[i].sensor_pose, options.insertion, rays);
       for (const Ray& ray : rays) {
         if (!ray.hit) continue;
-        const CellIndex end_cell = geometry.cellOf(ray.end);
-        const bool judged =
-            judgedByFinalMap(ray, options.active_region.active_region_radius, class_of(end_cell));
-        labels[ray.beam] = labelEndpoint(end_cell, judged, class_of);
+        labels[ray.beam] = labelEndpoint(ray, geometry, options.active_region.active_region_radius,
+                                         /*final_map=*/true, class_of);
       }
     }
     if (progress) progress(scans.size() + i + 1, 2 * scans.size());

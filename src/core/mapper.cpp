@@ -16,7 +16,6 @@
 #include <istream>
 #include <limits>
 #include <ostream>
-#include <set>
 
 namespace rfm {
 namespace {
@@ -105,7 +104,8 @@ struct Mapper::Impl {
   GlassCompletion completion;
   // Tiles holding cells completed as glass at the last motion removal: their classes changed
   // without their evidence changing, so motion removal's reuse of unchanged tiles skips them.
-  std::set<std::pair<int, int>> completed_tiles;
+  std::vector<TileIndex> completed_tiles;
+  std::vector<uint8_t> completed_storage_tiles;  // scratch: those and this run's, by storage tile
 };
 
 Mapper::Mapper(const MapperOptions& options)
@@ -269,20 +269,24 @@ MotionRemovalSummary Mapper::removeMotion() {
 
   // Glass the robot has not faced yet, on the lines of glass it has. These cells change class
   // with no change of evidence, so their tiles (and last time's) are not reused as unchanged.
-  std::set<std::pair<int, int>> completed_tiles;
+  const RollingWindow& window = field_.window();
+  std::vector<TileIndex> completed_tiles;
   for (int i : impl_->completion.complete(field_, box, box_classes)) {
-    const TileIndex tile =
-        field_.window().tileOf({box.min.x() + i % box.width(), box.min.y() + i / box.width()});
-    completed_tiles.insert({tile.x(), tile.y()});
+    completed_tiles.push_back(
+        window.tileOf({box.min.x() + i % box.width(), box.min.y() + i / box.width()}));
     ++summary.glass_cells;
   }
+  std::vector<uint8_t>& completed_here = impl_->completed_storage_tiles;  // by storage tile
+  completed_here.assign(static_cast<size_t>(window.tilesPerSide()) * window.tilesPerSide(), 0);
+  for (const auto* tiles : {&completed_tiles, &impl_->completed_tiles}) {
+    for (const TileIndex& tile : *tiles) {
+      if (window.contains(window.tileBox(tile).min)) completed_here[window.storageTile(tile)] = 1;
+    }
+  }
   const bool removed_motion = options_.motion_removal.motion_removal_enabled;
-  auto reused_tile = [&](const CellIndex& cell) {
-    if (!removed_motion || !impl_->remover.reusedTile(cell)) return false;
-    if (completed_tiles.empty() && impl_->completed_tiles.empty()) return true;
-    const TileIndex tile = field_.window().tileOf(cell);
-    const std::pair<int, int> key(tile.x(), tile.y());
-    return completed_tiles.count(key) == 0 && impl_->completed_tiles.count(key) == 0;
+  auto reused_tile = [&](const CellIndex& cell, int slot) {
+    return removed_motion && impl_->remover.reusedTile(cell) &&
+           !completed_here[slot >> window.tileSlotShift()];
   };
 
   // New glass: cells now blocking that were not before. Rows on the threads.
@@ -298,7 +302,7 @@ MotionRemovalSummary Mapper::removeMotion() {
     field_.window().forEachTileSpan(
         {{box.min.x(), y}, {box.max.x(), y + 1}}, [&](int, int x_begin, int x_end, int slot) {
           // A reused tile's cells, free or unknown, are stored already.
-          if (reused_tile({x_begin, y})) return;
+          if (reused_tile({x_begin, y}, slot)) return;
           size_t i = row * box.width() + (x_begin - box.min.x());
           for (int x = x_begin; x < x_end; ++x, ++slot) {
             CellClass& stored = impl_->classes[slot];
@@ -336,9 +340,9 @@ MotionRemovalSummary Mapper::removeMotion() {
     map_.assign(box, box_class);
   } else {
     // Reused tiles hold what the map got last time.
-    for (const TileIndex& tile : field_.window().tiles()) {
-      const CellBox tile_box = field_.window().tileBox(tile);
-      if (!reused_tile(tile_box.min)) map_.assign(tile_box, box_class);
+    for (const TileIndex& tile : window.tiles()) {
+      const CellBox tile_box = window.tileBox(tile);
+      if (!reused_tile(tile_box.min, window.tileFirstSlot(tile))) map_.assign(tile_box, box_class);
     }
   }
   impl_->completed_tiles = std::move(completed_tiles);
@@ -458,11 +462,8 @@ std::vector<RayLabel> Mapper::labelScan(const TimedScan& scan, bool final_map) c
       labels[ray.beam] = RayLabel::kReflection;
       continue;
     }
-    const CellIndex end_cell = field_.geometry().cellOf(ray.end);
-    const bool judged =
-        final_map &&
-        judgedByFinalMap(ray, options_.active_region.active_region_radius, class_of(end_cell));
-    labels[ray.beam] = labelEndpoint(end_cell, judged, class_of);
+    labels[ray.beam] = labelEndpoint(
+        ray, field_.geometry(), options_.active_region.active_region_radius, final_map, class_of);
   }
   return labels;
 }

@@ -115,18 +115,15 @@ double firstPassThroughDistance(const Ray& ray, const GridGeometry& geometry,
   return detector.distance();
 }
 
-// Whether a beam's endpoint is judged against the final map. A beam longer than the evidence
-// range (active_region_radius) added nothing at its end: an end cell that no ray observed is not
-// taken for erased evidence, but left unjudged (kept), as live.
-inline bool judgedByFinalMap(const Ray& ray, double evidence_range, CellClass end_class) {
-  return end_class != CellClass::kUnknown || (ray.end - ray.origin).norm() <= evidence_range;
-}
-
-// How a ray's endpoint is judged against a map (paper Sec. VI-A): kept when the end cell, or one
+// How a beam's endpoint is judged against a map (paper Sec. VI-A): kept when the end cell, or one
 // of its 8 neighbours (discretisation), is an obstacle; otherwise its evidence did not survive:
-// motion (a transient object, or erased evidence when `final_map`).
+// motion (a transient object, or erased evidence when `final_map`). A beam longer than the
+// evidence range (active_region_radius) added nothing at its end: an end cell that no ray
+// observed leaves it unjudged (kept), against the final map too, as live.
 template <typename ClassOf>
-RayLabel labelEndpoint(const CellIndex& end_cell, bool final_map, ClassOf&& class_of) {
+RayLabel labelEndpoint(const Ray& beam, const GridGeometry& geometry, double evidence_range,
+                       bool final_map, ClassOf&& class_of) {
+  const CellIndex end_cell = geometry.cellOf(beam.end);
   bool motion = false;
   const CellClass c = class_of(end_cell);
   if (isObstacle(c)) return RayLabel::kKept;
@@ -138,8 +135,10 @@ RayLabel labelEndpoint(const CellIndex& end_cell, bool final_map, ClassOf&& clas
       motion |= n == CellClass::kMotion;
     }
   }
-  if (motion || final_map) return RayLabel::kMotion;
-  return RayLabel::kKept;  // live: not yet classified, keep it for safety
+  if (motion) return RayLabel::kMotion;
+  const bool judged =
+      final_map && (c != CellClass::kUnknown || (beam.end - beam.origin).norm() <= evidence_range);
+  return judged ? RayLabel::kMotion : RayLabel::kKept;  // unjudged: kept for safety
 }
 
 }  // namespace rfm
