@@ -122,9 +122,12 @@ CellClass Mapper::cellClass(const CellIndex& cell) const {
 }
 
 ScanUpdate Mapper::addScan(const TimedScan& scan) {
-  ScanUpdate update = prepareScan(scan, impl_->rays);
+  ScanUpdate update = placeScan(scan);
   if (!update.error.empty()) return update;
-  cutAtGlass(impl_->rays, update);
+  makeRays(scan, impl_->rays, update);
+  const auto cut_start = std::chrono::steady_clock::now();
+  impl_->stats.reflection_rays += cutAtGlass(impl_->rays, update, impl_->runner.get());
+  update.reflection_ms = millisecondsSince(cut_start);
   const auto insert_start = std::chrono::steady_clock::now();
   update.bin_updates = impl_->inserter.insert(impl_->rays, field_);
   update.insert_ms = millisecondsSince(insert_start);
@@ -133,8 +136,7 @@ ScanUpdate Mapper::addScan(const TimedScan& scan) {
 }
 
 void Mapper::addScans(ScanIterator first, ScanIterator last) {
-  const bool checks_glass = checksGlass();
-  if (checks_glass && !impl_->frozen.active()) {
+  if (checksGlass() && !impl_->frozen.active()) {
     // The glass check reads the field as the scans before left it: one by one.
     for (ScanIterator scan = first; scan != last; ++scan)
       addScan(*scan);
@@ -142,29 +144,39 @@ void Mapper::addScans(ScanIterator first, ScanIterator last) {
   }
   // Scans go into the field together until the window moves or a persistence tick is due
   // (ticks read the field as the scans before them left it). A glass check against frozen
-  // reflectivity reads nothing the group changes: scans are cut as they come and inserted
-  // together.
-  std::vector<std::vector<Ray>>& pending = impl_->pending;
-  size_t pending_count = 0;
+  // reflectivity reads nothing the group changes, so a group's scans make and cut their rays
+  // side by side, one scan per thread, and then go in theta bin by theta bin.
+  std::vector<ScanIterator> group;
+  std::vector<std::vector<Ray>>& rays = impl_->pending;
   auto flush = [&] {
-    impl_->inserter.insertScans(pending, pending_count, field_);
-    pending_count = 0;
+    if (rays.size() < group.size()) rays.resize(group.size());
+    std::vector<size_t> cut(group.size(), 0);
+    parallelFor(impl_->runner.get(), group.size(), 1, [&](size_t i, int) {
+      ScanUpdate update;
+      update.labels.assign(group[i]->scan.ranges.size(), RayLabel::kNoReturn);
+      makeRays(*group[i], rays[i], update);
+      cut[i] = cutAtGlass(rays[i], update, /*runner=*/nullptr);
+    });
+    impl_->inserter.insertScans(rays, group.size(), field_);
+    for (size_t i = 0; i < group.size(); ++i) {
+      impl_->stats.reflection_rays += cut[i];
+      impl_->stats.rays_inserted += rays[i].size();
+      if (options_.reflection_removal.scan_buffer_size > 0) bufferScan(*group[i], rays[i]);
+    }
+    group.clear();
   };
   for (ScanIterator scan = first; scan != last; ++scan) {
-    if (pending_count > 0 && field_.wouldRecenter(scan->robot_pose.position)) flush();
-    if (pending.size() <= pending_count) pending.resize(pending_count + 1);
-    std::vector<Ray>& rays = pending[pending_count];
-    ScanUpdate update = prepareScan(*scan, rays);
-    if (!update.error.empty()) continue;
-    cutAtGlass(rays, update);
-    ++pending_count;
+    if (!group.empty() && field_.wouldRecenter(scan->robot_pose.position)) flush();
+    if (!placeScan(*scan).error.empty()) continue;
+    group.push_back(scan);
     if (tickDue(scan->stamp)) flush();
-    finishScan(*scan, rays, update);
+    tickPersistenceIfDue(scan->stamp);
+    ++impl_->stats.scans_processed;
   }
-  if (pending_count > 0) flush();
+  if (!group.empty()) flush();
 }
 
-ScanUpdate Mapper::prepareScan(const TimedScan& scan, std::vector<Ray>& rays) {
+ScanUpdate Mapper::placeScan(const TimedScan& scan) {
   ScanUpdate update;
   update.labels.assign(scan.scan.ranges.size(), RayLabel::kNoReturn);
   update.error = scan.scan.validate();
@@ -185,42 +197,46 @@ ScanUpdate Mapper::prepareScan(const TimedScan& scan, std::vector<Ray>& rays) {
     if (!impl_->buffer.empty()) impl_->buffer.clear();  // rays refer to the old window
     updateClearance();
   }
+  return update;
+}
 
+void Mapper::makeRays(const TimedScan& scan, std::vector<Ray>& rays, ScanUpdate& update) const {
   scanToRays(scan.scan, scan.sensor_pose, options_.insertion, rays);
   for (const Ray& ray : rays)
     update.labels[ray.beam] = RayLabel::kKept;
   clipToActiveRegion(rays);
-  return update;
 }
 
 bool Mapper::checksGlass() const {
   return options_.reflection_removal.reflection_removal_enabled && impl_->blocking_cells > 0;
 }
 
-void Mapper::cutAtGlass(std::vector<Ray>& rays, ScanUpdate& update) {
-  if (!checksGlass()) return;
-  const auto start = std::chrono::steady_clock::now();
+size_t Mapper::cutAtGlass(std::vector<Ray>& rays, ScanUpdate& update,
+                          ParallelRunner* runner) const {
+  if (!checksGlass()) return 0;
   // Read-only on the field and the classes: the rays split between threads freely.
-  parallelFor(impl_->runner.get(), rays.size(), 64, [&](size_t i, int) {
-    if (truncateAtGlass(rays[i])) update.labels[rays[i].beam] = RayLabel::kReflection;
+  std::vector<uint8_t> cut(rays.size(), 0);
+  parallelFor(runner, rays.size(), 64, [&](size_t i, int) {
+    if (truncateAtGlass(rays[i])) {
+      update.labels[rays[i].beam] = RayLabel::kReflection;
+      cut[i] = 1;
+    }
   });
-  impl_->stats.reflection_rays +=
-      std::count(update.labels.begin(), update.labels.end(), RayLabel::kReflection);
-  update.reflection_ms = millisecondsSince(start);
+  return std::count(cut.begin(), cut.end(), uint8_t{1});
+}
+
+void Mapper::bufferScan(const TimedScan& scan, const std::vector<Ray>& rays) {
+  impl_->buffer.push_back({rays, scan.sensor_pose.position,
+                           scan.sensor_pose.yaw + scan.scan.angle_min,
+                           static_cast<double>(scan.scan.angle_increment)});
+  while (impl_->buffer.size() > static_cast<size_t>(options_.reflection_removal.scan_buffer_size))
+    impl_->buffer.pop_front();
 }
 
 void Mapper::finishScan(const TimedScan& scan, const std::vector<Ray>& rays,
                         const ScanUpdate& update) {
   tickPersistenceIfDue(scan.stamp);
-  if (options_.reflection_removal.scan_buffer_size > 0) {
-    impl_->buffer.push_back({rays, scan.sensor_pose.position,
-                             scan.sensor_pose.yaw + scan.scan.angle_min,
-                             static_cast<double>(scan.scan.angle_increment)});
-    while (impl_->buffer.size() >
-           static_cast<size_t>(options_.reflection_removal.scan_buffer_size)) {
-      impl_->buffer.pop_front();
-    }
-  }
+  if (options_.reflection_removal.scan_buffer_size > 0) bufferScan(scan, rays);
   ++impl_->stats.scans_processed;
   impl_->stats.rays_inserted += rays.size();
   impl_->stats.last_insert_ms = update.insert_ms;

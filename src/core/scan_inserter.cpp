@@ -112,8 +112,7 @@ size_t ScanInserter::insert(const std::vector<Ray>& rays, ReflectanceField& fiel
 size_t ScanInserter::insertScans(const std::vector<std::vector<Ray>>& scans, size_t count,
                                  ReflectanceField& field) {
   if (batch_.size() < count) batch_.resize(count);
-  for (size_t s = 0; s < count; ++s)
-    prepare(scans[s], field, batch_[s]);
+  parallelFor(runner_.get(), count, 1, [&](size_t s, int) { prepare(scans[s], field, batch_[s]); });
   deferred_.resize(inserters_.size());
   for (DeferredChanges& deferred : deferred_)
     deferred.changes.clear();

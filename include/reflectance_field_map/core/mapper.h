@@ -123,10 +123,15 @@ class Mapper {
   void revertEvidenceBehindGlass(const CellBox& new_glass);
   void undo(const BinUpdate& update);
   void redo(const BinUpdate& update);
-  // addScan up to the insertion: re-centres, makes the rays (into `rays`) and clips them.
-  // cutAtGlass then cuts them at known glass; finishScan does what follows the insertion.
-  ScanUpdate prepareScan(const TimedScan& scan, std::vector<Ray>& rays);
-  void cutAtGlass(std::vector<Ray>& rays, ScanUpdate& update);
+  // addScan up to the insertion, in steps: placeScan validates the scan and re-centres the
+  // window on the robot; makeRays makes its rays and clips them to the window; cutAtGlass cuts
+  // them at known glass (on `runner`'s threads) and returns how many it cut. finishScan does
+  // what follows the insertion. makeRays and cutAtGlass only read the mapper.
+  ScanUpdate placeScan(const TimedScan& scan);
+  void makeRays(const TimedScan& scan, std::vector<Ray>& rays, ScanUpdate& update) const;
+  size_t cutAtGlass(std::vector<Ray>& rays, ScanUpdate& update, ParallelRunner* runner) const;
+  // Keeps the scan's inserted rays for online re-processing.
+  void bufferScan(const TimedScan& scan, const std::vector<Ray>& rays);
   bool checksGlass() const;
   void finishScan(const TimedScan& scan, const std::vector<Ray>& rays, const ScanUpdate& update);
   bool tickDue(double stamp) const;
