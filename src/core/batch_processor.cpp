@@ -1,5 +1,6 @@
 #include "reflectance_field_map/core/batch_processor.h"
 
+#include "reflectance_field_map/core/parallel_runner.h"
 #include "reflectance_field_map/core/plain_occupancy_grid.h"
 #include "reflectance_field_map/core/ray_classification.h"
 #include "reflectance_field_map/core/ray_insertion.h"
@@ -36,23 +37,35 @@ struct Extent {
 };
 
 Extent recordingExtent(const std::vector<TimedScan>& scans, const MapperOptions& options) {
-  Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
-  Eigen::Vector2d high = -low;
-  std::vector<Ray> rays;
-  for (const TimedScan& scan : scans) {
-    if (!scan.scan.validate().empty()) continue;
-    low = low.cwiseMin(scan.sensor_pose.position);
-    high = high.cwiseMax(scan.sensor_pose.position);
-    evidenceRays(scan, options, rays);
-    for (const Ray& ray : rays) {
-      low = low.cwiseMin(ray.end);
-      high = high.cwiseMax(ray.end);
+  // Scan by scan on the mapper's number of threads, each with its own bounds.
+  ParallelRunner runner(options.insertion.insertion_threads);
+  struct alignas(64) Bounds {
+    Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+    Eigen::Vector2d high = -low;
+    std::vector<Ray> rays;
+  };
+  std::vector<Bounds> parts(runner.threads());
+  parallelFor(&runner, scans.size(), 16, [&](size_t i, int thread) {
+    const TimedScan& scan = scans[i];
+    if (!scan.scan.validate().empty()) return;
+    Bounds& part = parts[thread];
+    part.low = part.low.cwiseMin(scan.sensor_pose.position);
+    part.high = part.high.cwiseMax(scan.sensor_pose.position);
+    evidenceRays(scan, options, part.rays);
+    for (const Ray& ray : part.rays) {
+      part.low = part.low.cwiseMin(ray.end);
+      part.high = part.high.cwiseMax(ray.end);
     }
+  });
+  Bounds all;
+  for (const Bounds& part : parts) {
+    all.low = all.low.cwiseMin(part.low);
+    all.high = all.high.cwiseMax(part.high);
   }
   Extent extent;
-  if (!std::isfinite(low.x())) return extent;
-  extent.centre = 0.5 * (low + high);
-  extent.half_side = 0.5 * (high - low).maxCoeff();
+  if (!std::isfinite(all.low.x())) return extent;
+  extent.centre = 0.5 * (all.low + all.high);
+  extent.half_side = 0.5 * (all.high - all.low).maxCoeff();
   return extent;
 }
 
