@@ -321,7 +321,17 @@ void ReflectanceField::tickPersistence(int remembered_min_bins, int confirmed_mi
     }
     history.missed_at_tick = missed_bins_[slot];
   }
+  const size_t tile_slots = size_t{1} << window_.tileSlotShift();
   for (size_t index = 0; index < plane_; ++index) {
+    if (index % tile_slots == 0 && remembered_min_bins > 0 &&
+        tile_reflective_cells_[index / tile_slots] == 0) {
+      // No cell of this tile is reflective: none is remembered or confirmed, so all that is
+      // left to do is what the loop does to unreflective cells.
+      std::fill_n(&confirmed_ticks_[index], tile_slots, uint8_t{0});
+      std::fill_n(&hit_since_tick_[index], tile_slots, uint8_t{0});
+      index += tile_slots - 1;
+      continue;
+    }
     if (reflective_bins_[index] >= remembered_min_bins) {
       CellHistory& history = reflective_history_[static_cast<int>(index)];
       if (history.bins.empty()) history.missed_at_tick = missed_bins_[index];

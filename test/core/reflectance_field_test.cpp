@@ -95,6 +95,33 @@ TEST(ReflectanceField, VacancyCountsTicksSeenThroughAnewWithoutAHit) {
   EXPECT_EQ(vacant(person), 0);
 }
 
+// A tile whose cells are none of them reflective any more is ticked in one sweep: its cells
+// must still lose their confirmation and their hits since the last tick, as cell by cell.
+TEST(ReflectanceField, TickClearsATileWithNoReflectiveCellLeft) {
+  ReflectanceField field = smallField();
+  const CellIndex cell(1, 1);  // alone in its tile
+  const int slot = field.window().storageIndex(cell);
+  for (int bin = 20; bin < 60; ++bin)
+    field.applyHit(cell, bin);
+  field.tickPersistence(/*remembered_min_bins=*/3);
+  EXPECT_EQ(field.confirmedTicksAt(slot), 1);
+  const int tile = slot >> field.window().tileSlotShift();
+
+  field.applyHit(cell, 20);  // hit once more, then seen through in every bin
+  for (int i = 0; i < 5; ++i) {
+    for (int bin = 20; bin < 60; ++bin)
+      field.applyMiss(cell, bin);
+  }
+  ASSERT_EQ(field.tileReflectiveCells(tile), 0);
+  field.tickPersistence(/*remembered_min_bins=*/3);
+  EXPECT_EQ(field.confirmedTicksAt(slot), 0);
+  EXPECT_EQ(field.vacantTicksAt(slot), 0);  // hit since the last tick
+
+  field.applyMiss(cell, 100);  // seen through anew, not hit: the hit above is history
+  field.tickPersistence(/*remembered_min_bins=*/3);
+  EXPECT_EQ(field.vacantTicksAt(slot), 1);
+}
+
 // Abandonment: ticks over which a long-confirmed cell was missed in a bin it had been certain
 // in, and hit nowhere. Glass seen through at the edge of its lobe and structure still hit are
 // not abandoned; cells never confirmed have no such history.
