@@ -160,8 +160,7 @@ void Mapper::addScans(ScanIterator first, ScanIterator last) {
     impl_->inserter.insertScans(rays, group.size(), field_);
     for (size_t i = 0; i < group.size(); ++i) {
       impl_->stats.reflection_rays += cut[i];
-      impl_->stats.rays_inserted += rays[i].size();
-      if (options_.reflection_removal.scan_buffer_size > 0) bufferScan(*group[i], rays[i]);
+      keepInsertedRays(*group[i], rays[i]);
     }
     group.clear();
   };
@@ -170,8 +169,7 @@ void Mapper::addScans(ScanIterator first, ScanIterator last) {
     if (!placeScan(*scan).error.empty()) continue;
     group.push_back(scan);
     if (tickDue(scan->stamp)) flush();
-    tickPersistenceIfDue(scan->stamp);
-    ++impl_->stats.scans_processed;
+    countScan(scan->stamp);
   }
   if (!group.empty()) flush();
 }
@@ -215,17 +213,20 @@ size_t Mapper::cutAtGlass(std::vector<Ray>& rays, ScanUpdate& update,
                           ParallelRunner* runner) const {
   if (!checksGlass()) return 0;
   // Read-only on the field and the classes: the rays split between threads freely.
-  std::vector<uint8_t> cut(rays.size(), 0);
   parallelFor(runner, rays.size(), 64, [&](size_t i, int) {
-    if (truncateAtGlass(rays[i])) {
-      update.labels[rays[i].beam] = RayLabel::kReflection;
-      cut[i] = 1;
-    }
+    if (truncateAtGlass(rays[i])) update.labels[rays[i].beam] = RayLabel::kReflection;
   });
-  return std::count(cut.begin(), cut.end(), uint8_t{1});
+  return std::count(update.labels.begin(), update.labels.end(), RayLabel::kReflection);
 }
 
-void Mapper::bufferScan(const TimedScan& scan, const std::vector<Ray>& rays) {
+void Mapper::countScan(double stamp) {
+  tickPersistenceIfDue(stamp);
+  ++impl_->stats.scans_processed;
+}
+
+void Mapper::keepInsertedRays(const TimedScan& scan, const std::vector<Ray>& rays) {
+  impl_->stats.rays_inserted += rays.size();
+  if (options_.reflection_removal.scan_buffer_size == 0) return;
   impl_->buffer.push_back({rays, scan.sensor_pose.position,
                            scan.sensor_pose.yaw + scan.scan.angle_min,
                            static_cast<double>(scan.scan.angle_increment)});
@@ -235,10 +236,8 @@ void Mapper::bufferScan(const TimedScan& scan, const std::vector<Ray>& rays) {
 
 void Mapper::finishScan(const TimedScan& scan, const std::vector<Ray>& rays,
                         const ScanUpdate& update) {
-  tickPersistenceIfDue(scan.stamp);
-  if (options_.reflection_removal.scan_buffer_size > 0) bufferScan(scan, rays);
-  ++impl_->stats.scans_processed;
-  impl_->stats.rays_inserted += rays.size();
+  countScan(scan.stamp);
+  keepInsertedRays(scan, rays);
   impl_->stats.last_insert_ms = update.insert_ms;
   impl_->stats.last_reflection_ms = update.reflection_ms;
 }

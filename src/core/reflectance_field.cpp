@@ -321,36 +321,37 @@ void ReflectanceField::tickPersistence(int remembered_min_bins, int confirmed_mi
     }
     history.missed_at_tick = missed_bins_[slot];
   }
+  // Tile by tile: storage tiles are contiguous blocks of slots.
   const size_t tile_slots = size_t{1} << window_.tileSlotShift();
-  for (size_t index = 0; index < plane_; ++index) {
-    if (index % tile_slots == 0 && remembered_min_bins > 0 &&
-        tile_reflective_cells_[index / tile_slots] == 0) {
+  for (size_t first = 0; first < plane_; first += tile_slots) {
+    if (remembered_min_bins > 0 && tile_reflective_cells_[first >> window_.tileSlotShift()] == 0) {
       // No cell of this tile is reflective: none is remembered or confirmed, so all that is
-      // left to do is what the loop does to unreflective cells.
-      std::fill_n(&confirmed_ticks_[index], tile_slots, uint8_t{0});
-      std::fill_n(&hit_since_tick_[index], tile_slots, uint8_t{0});
-      index += tile_slots - 1;
+      // left to do is what the loop below does to unreflective cells.
+      std::fill_n(&confirmed_ticks_[first], tile_slots, uint8_t{0});
+      std::fill_n(&hit_since_tick_[first], tile_slots, uint8_t{0});
       continue;
     }
-    if (reflective_bins_[index] >= remembered_min_bins) {
-      CellHistory& history = reflective_history_[static_cast<int>(index)];
-      if (history.bins.empty()) history.missed_at_tick = missed_bins_[index];
-      history.bins.resize(mask_words_, 0);
-      const uint64_t* mask = &reflective_masks_[index * mask_words_];
-      for (int w = 0; w < mask_words_; ++w)
-        history.bins[w] |= mask[w];
+    for (size_t index = first; index < first + tile_slots; ++index) {
+      if (reflective_bins_[index] >= remembered_min_bins) {
+        CellHistory& history = reflective_history_[static_cast<int>(index)];
+        if (history.bins.empty()) history.missed_at_tick = missed_bins_[index];
+        history.bins.resize(mask_words_, 0);
+        const uint64_t* mask = &reflective_masks_[index * mask_words_];
+        for (int w = 0; w < mask_words_; ++w)
+          history.bins[w] |= mask[w];
+      }
+      uint8_t& ticks = confirmed_ticks_[index];
+      if (!reflective_bins_[index]) {
+        ticks = 0;
+      } else if (hit_since_tick_[index] && ticks < 255) {
+        ++ticks;  // not hit (occluded, out of view): held, neither confirmed nor reset
+      }
+      // Only hits make a bin certain.
+      if (confirmed_min_ticks > 0 && ticks >= confirmed_min_ticks && hit_since_tick_[index]) {
+        rememberCertainty(index);
+      }
+      hit_since_tick_[index] = 0;
     }
-    uint8_t& ticks = confirmed_ticks_[index];
-    if (!reflective_bins_[index]) {
-      ticks = 0;
-    } else if (hit_since_tick_[index] && ticks < 255) {
-      ++ticks;  // not hit (occluded, out of view): held, neither confirmed nor reset
-    }
-    // Only hits make a bin certain.
-    if (confirmed_min_ticks > 0 && ticks >= confirmed_min_ticks && hit_since_tick_[index]) {
-      rememberCertainty(index);
-    }
-    hit_since_tick_[index] = 0;
   }
 }
 

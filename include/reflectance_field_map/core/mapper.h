@@ -126,14 +126,16 @@ class Mapper {
   // addScan up to the insertion, in steps: placeScan validates the scan and re-centres the
   // window on the robot; makeRays makes its rays and clips them to the window; cutAtGlass cuts
   // them at known glass (on `runner`'s threads) and returns how many it cut. finishScan does
-  // what follows the insertion. makeRays and cutAtGlass only read the mapper.
+  // what follows the insertion: countScan (a persistence tick when due) and keepInsertedRays
+  // (statistics, the buffer for online re-processing), which addScans calls apart because it
+  // inserts a group's rays after counting its scans. makeRays and cutAtGlass only read the mapper.
   ScanUpdate placeScan(const TimedScan& scan);
   void makeRays(const TimedScan& scan, std::vector<Ray>& rays, ScanUpdate& update) const;
   size_t cutAtGlass(std::vector<Ray>& rays, ScanUpdate& update, ParallelRunner* runner) const;
-  // Keeps the scan's inserted rays for online re-processing.
-  void bufferScan(const TimedScan& scan, const std::vector<Ray>& rays);
   bool checksGlass() const;
   void finishScan(const TimedScan& scan, const std::vector<Ray>& rays, const ScanUpdate& update);
+  void countScan(double stamp);
+  void keepInsertedRays(const TimedScan& scan, const std::vector<Ray>& rays);
   bool tickDue(double stamp) const;
   void tickPersistenceIfDue(double stamp);
   // Recomputes the clearance of the window's classes (after they changed).
