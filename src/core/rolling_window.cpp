@@ -6,7 +6,16 @@ RollingWindow::RollingWindow(int tile_cells, int tiles_per_side)
     : tile_cells_(tile_cells),
       tile_shift_(__builtin_ctz(static_cast<unsigned>(tile_cells))),
       tile_mask_(tile_cells - 1),
-      tiles_per_side_(tiles_per_side) {}
+      tiles_per_side_(tiles_per_side) {
+  const int size = sizeCells();
+  column_offsets_.resize(3 * static_cast<size_t>(size));
+  row_offsets_.resize(3 * static_cast<size_t>(size));
+  for (int i = 0; i < 3 * size; ++i) {
+    const int storage = i % size;
+    column_offsets_[i] = storageSlot(storage, 0);
+    row_offsets_[i] = storageSlot(0, storage);
+  }
+}
 
 CellBox RollingWindow::box() const {
   return {origin_tile_ * tile_cells_,

@@ -53,6 +53,18 @@ TEST(RollingWindow, WindowTilesKeepTheRadiusInside) {
   }
 }
 
+TEST(RollingWindow, AxisOffsetsAddUpToTheSlotOneWindowEitherSide) {
+  const RollingWindow window(16, 3);
+  const int size = window.sizeCells();
+  for (int y = -size; y < 2 * size; ++y) {
+    for (int x = -size; x < 2 * size; ++x) {
+      ASSERT_EQ(window.columnOffsets()[x] + window.rowOffsets()[y],
+                window.storageSlot(positiveMod(x, size), positiveMod(y, size)))
+          << "x " << x << " y " << y;
+    }
+  }
+}
+
 TEST(RollingWindow, DiffReportsExactlyTheTilesThatLeftAndEntered) {
   RollingWindow window(16, 5);
   window.setOrigin({0, 0});

@@ -73,23 +73,18 @@ template <int kMajor, typename Visit>
 void sweepFan(int column0, int row0, int step, FanRay* fan, int count, const RollingWindow& window,
               Visit& visit) {
   const int size = window.sizeCells();
-  const SlotIndexer slot_of = window.slotIndexer();
-  const int storage_row0 = positiveMod(row0, size);
+  // Rays lie inside the window, so their rows and columns stay within one window of storage,
+  // where the offset tables wrap them.
+  const int* const column_offsets = kMajor == 0 ? window.columnOffsets() : window.rowOffsets();
+  const int* const row_offsets = kMajor == 0 ? window.rowOffsets() : window.columnOffsets();
+  const int row_shift = positiveMod(row0, size) - row0;  // cell row -> storage row
   int storage_column = positiveMod(column0, size);
-  // Rays lie inside the window, so one wrap brings any of their rows into storage.
   auto visit_rows = [&](int low, int high) {
-    int storage_row = storage_row0 + (low - row0);
-    storage_row += storage_row < 0 ? size : (storage_row >= size ? -size : 0);
-    for (int r = low; r <= high; ++r) {
-      visit(kMajor == 0 ? slot_of(storage_column, storage_row)
-                        : slot_of(storage_row, storage_column));
-      storage_row = storage_row + 1 == size ? 0 : storage_row + 1;
-    }
+    const int column_offset = column_offsets[storage_column];
+    for (int r = low + row_shift; r <= high + row_shift; ++r)
+      visit(column_offset + row_offsets[r]);
   };
-  auto next_column = [&] {
-    storage_column += step;
-    storage_column = storage_column == size ? 0 : (storage_column < 0 ? size - 1 : storage_column);
-  };
+  auto next_column = [&] { storage_column += step; };
   auto entry_row = [row0](const FanRay& ray, int column) {
     return column == 0 ? row0 : exitRow(ray, column - 1);
   };

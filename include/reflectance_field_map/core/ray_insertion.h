@@ -72,24 +72,25 @@ inline void walkWindowCells(const Eigen::Vector2d& start, const Eigen::Vector2d&
   double t_max_y = dy == 0.0 ? inf : ((step_y > 0 ? cy + 1.0 : cy) - fy) / dy;
   const double t_delta_x = dx == 0.0 ? inf : std::abs(1.0 / dx);
   const double t_delta_y = dy == 0.0 ? inf : std::abs(1.0 / dy);
+  // Storage coordinates; the ray lies inside the window, so they stay within one window of
+  // storage, where the offset tables wrap them.
   int x = positiveMod(cx, size), y = positiveMod(cy, size);
-  const SlotIndexer slot_of = window.slotIndexer();
+  const int* const column_offsets = window.columnOffsets();
+  const int* const row_offsets = window.rowOffsets();
   int cells = remaining_x + remaining_y + (include_end ? 1 : 0);
   while (cells-- > 0) {
-    if (!visit(slot_of(x, y), cx, cy)) return;
+    if (!visit(column_offsets[x] + row_offsets[y], cx, cy)) return;
     // Parametric choice, overruled when that axis has no steps left (drift guard).
     if (t_max_x < t_max_y ? remaining_x > 0 : remaining_y == 0) {
       t_max_x += t_delta_x;
       --remaining_x;
       cx += step_x;
       x += step_x;
-      x = x == size ? 0 : (x < 0 ? size - 1 : x);
     } else {
       t_max_y += t_delta_y;
       --remaining_y;
       cy += step_y;
       y += step_y;
-      y = y == size ? 0 : (y < 0 ? size - 1 : y);
     }
   }
 }

@@ -7,17 +7,6 @@
 
 namespace rfm {
 
-// storageSlot as a value held in registers: hot loops that store bytes (which may alias any
-// object) would otherwise reload the window's members after every store.
-struct SlotIndexer {
-  int tile_shift, tile_mask, tiles_per_side;
-  int operator()(int storage_x, int storage_y) const {
-    return ((((storage_y >> tile_shift) * tiles_per_side + (storage_x >> tile_shift))
-             << (2 * tile_shift)) |
-            ((storage_y & tile_mask) << tile_shift) | (storage_x & tile_mask));
-  }
-};
-
 // Geometry of a square window of tiles that follows the robot, stored as a circular buffer:
 // a global cell c lives in storage slot positiveMod(c, size) on each axis, so moving the
 // window only re-assigns the slots of tiles that scrolled out to the tiles that scrolled in.
@@ -36,9 +25,16 @@ class RollingWindow {
   // Storage is tile-major: the cells of one tile are contiguous (row-major inside the tile), so
   // a ray touches few cache lines and a tile is archived or cleared as one block.
   int storageSlot(int storage_x, int storage_y) const {
-    return slotIndexer()(storage_x, storage_y);
+    return (((storage_y >> tile_shift_) * tiles_per_side_ + (storage_x >> tile_shift_))
+            << (2 * tile_shift_)) |
+           ((storage_y & tile_mask_) << tile_shift_) | (storage_x & tile_mask_);
   }
-  SlotIndexer slotIndexer() const { return {tile_shift_, tile_mask_, tiles_per_side_}; }
+  // The slot split by axis: storageSlot(x, y) == columnOffsets()[x] + rowOffsets()[y] (the bits
+  // x and y set in a tile-major index are disjoint). Indices run from -sizeCells() to
+  // 2 sizeCells() - 1, one window either side of storage, so a walk that crosses the storage
+  // edge wraps by indexing instead of by a branch per cell.
+  const int* columnOffsets() const { return column_offsets_.data() + sizeCells(); }
+  const int* rowOffsets() const { return row_offsets_.data() + sizeCells(); }
   // Storage slot of a cell inside the window.
   int storageIndex(const CellIndex& cell) const {
     return storageSlot(storageCoordinate(cell.x()), storageCoordinate(cell.y()));
@@ -101,6 +97,7 @@ class RollingWindow {
   int tile_mask_;
   int tiles_per_side_;
   TileIndex origin_tile_{0, 0};
+  std::vector<int> column_offsets_, row_offsets_;
 };
 
 // What a re-centring did: tiles that left the window and tiles that entered it.
