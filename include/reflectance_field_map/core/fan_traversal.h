@@ -69,9 +69,12 @@ inline int columnsJoined(const FanRay& a, const FanRay& b) {
       std::min<int64_t>((kLimit - 1 - apart) / spread + 1, std::numeric_limits<int>::max()));
 }
 
+// Always inlined: the caller's visitor then stays a local that no pointer reaches, so its state
+// lives in registers even though a visitor's byte stores may alias any memory.
 template <int kMajor, typename Visit>
-void sweepFan(int column0, int row0, int step, FanRay* fan, int count, const RollingWindow& window,
-              Visit& visit) {
+__attribute__((always_inline)) inline void sweepFan(int column0, int row0, int step, FanRay* fan,
+                                                    int count, const RollingWindow& window,
+                                                    Visit& visit) {
   const int size = window.sizeCells();
   // Rays lie inside the window, so their rows and columns stay within one window of storage,
   // where the offset tables wrap them.
@@ -155,9 +158,11 @@ void sweepFan(int column0, int row0, int step, FanRay* fan, int count, const Rol
 // grouped by theta bin) are swept together. Rays must lie inside the window.
 // Where a ray passes within rounding error of a cell corner or runs along a cell edge, the two
 // may take different sides (both are exact up to rounding); real rays practically never do.
+// The visitor goes in by value and comes back, as with std::for_each: a visitor holding its state
+// by value (not through references) is swept with that state in registers.
 template <typename Visit>
-void visitCellsOfRays(const std::vector<Ray>& rays, const uint32_t* order, size_t count,
-                      double inverse_resolution, const RollingWindow& window, Visit&& visit) {
+Visit visitCellsOfRays(const std::vector<Ray>& rays, const uint32_t* order, size_t count,
+                       double inverse_resolution, const RollingWindow& window, Visit visit) {
   using fan_detail::FanRay;
   FanRay fan[fan_detail::kMaxFanRays];
   size_t k = 0;
@@ -212,6 +217,7 @@ void visitCellsOfRays(const std::vector<Ray>& rays, const uint32_t* order, size_
       fan_detail::sweepFan<1>(column0, row0, step, fan, count_in_fan, window, visit);
     }
   }
+  return visit;
 }
 
 }  // namespace rfm

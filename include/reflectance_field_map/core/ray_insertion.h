@@ -95,6 +95,27 @@ inline void walkWindowCells(const Eigen::Vector2d& start, const Eigen::Vector2d&
   }
 }
 
+namespace insertion_detail {
+
+// Adds a miss to each slot not yet stamped. Holds everything by value: byte stores may alias
+// any memory, so state reached through pointers or references would be reloaded every cell.
+template <typename Writer>
+struct MissWriter {
+  uint8_t* stamps;
+  uint8_t stamp;
+  Writer writer;
+  size_t updates = 0;
+  void operator()(int slot) {
+    if (stamps[slot] != stamp) {
+      stamps[slot] = stamp;
+      writer.miss(slot);
+      ++updates;
+    }
+  }
+};
+
+}  // namespace insertion_detail
+
 template <typename Target>
 void DeduplicatingRayInserter::insert(const RollingWindow& window, double inverse_resolution,
                                       const std::vector<Ray>& rays,
@@ -124,13 +145,10 @@ void DeduplicatingRayInserter::insert(const RollingWindow& window, double invers
     }
     // Misses on every cell of the group's rays. A hit ray's end cell holds its hit: stamped
     // above, so the sweep (which covers end cells) passes over it.
-    visitCellsOfRays(rays, &order[begin], end - begin, inverse_resolution, window, [&](int slot) {
-      if (stamps[slot] != stamp) {
-        stamps[slot] = stamp;
-        writer.miss(slot);
-        ++updates;
-      }
-    });
+    using Misses = insertion_detail::MissWriter<decltype(writer)>;
+    const Misses misses = visitCellsOfRays(rays, &order[begin], end - begin, inverse_resolution,
+                                           window, Misses{stamps, stamp, writer});
+    updates += misses.updates;
   }
   updates_ = updates;
 }
