@@ -63,6 +63,31 @@ TEST(ScanToRays, ClearingDistanceNeverExceedsRangeMax) {
   EXPECT_NEAR((rays[0].end - rays[0].origin).norm(), 2.0, 1e-6);
 }
 
+
+// Directions come from a rotation recurrence between exact anchors: every beam of a long scan,
+// sweeping either way, still ends where its own angle points.
+TEST(ScanToRays, EveryBeamOfALongScanPointsAlongItsAngle) {
+  for (const float increment : {0.25f * static_cast<float>(kPi) / 180, -0.0061f}) {
+    LaserScan2D scan;
+    scan.angle_min = 2.1f;
+    scan.angle_increment = increment;
+    scan.range_min = 0.1f;
+    scan.range_max = 30.0f;
+    scan.ranges.assign(1081, 25.0f);
+    scan.angle_max = scan.angle_min + 1080 * increment;
+    std::vector<Ray> rays;
+    const Pose2D sensor{{3.0, -2.0}, -0.7};
+    scanToRays(scan, sensor, InsertionOptions(), rays);
+    ASSERT_EQ(rays.size(), 1081u);
+    for (const Ray& ray : rays) {
+      const double angle = sensor.yaw + scan.angle_min + ray.beam * static_cast<double>(increment);
+      EXPECT_DOUBLE_EQ(ray.angle, angle);
+      const Eigen::Vector2d expected =
+          sensor.position + 25.0 * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+      EXPECT_LT((ray.end - expected).norm(), 1e-12) << "beam " << ray.beam;
+    }
+  }
+}
 // Every beam whose ray crosses the box lies in one of the ranges (online reflection removal
 // looks only at those), and the ranges are far narrower than the scan for a small, far box.
 TEST(BeamsTowardsBox, HoldEveryBeamCrossingTheBox) {
