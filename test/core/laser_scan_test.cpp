@@ -63,7 +63,6 @@ TEST(ScanToRays, ClearingDistanceNeverExceedsRangeMax) {
   EXPECT_NEAR((rays[0].end - rays[0].origin).norm(), 2.0, 1e-6);
 }
 
-
 // Directions come from a rotation recurrence between exact anchors: every beam of a long scan,
 // sweeping either way, still ends where its own angle points.
 TEST(ScanToRays, EveryBeamOfALongScanPointsAlongItsAngle) {
