@@ -53,14 +53,25 @@ TEST(RollingWindow, WindowTilesKeepTheRadiusInside) {
   }
 }
 
-TEST(RollingWindow, AxisOffsetsAddUpToTheSlotOneWindowEitherSide) {
-  const RollingWindow window(16, 3);
+TEST(RollingWindow, AxisOffsetsAndStorageIndexAgreeWithTheModulo) {
+  RollingWindow window(16, 3);
   const int size = window.sizeCells();
-  for (int y = -size; y < 2 * size; ++y) {
-    for (int x = -size; x < 2 * size; ++x) {
-      ASSERT_EQ(window.columnOffsets()[x] + window.rowOffsets()[y],
-                window.storageSlot(positiveMod(x, size), positiveMod(y, size)))
-          << "x " << x << " y " << y;
+  auto by_modulo = [&](int x, int y) {
+    return window.storageSlot(positiveMod(x, size), positiveMod(y, size));
+  };
+  for (const TileIndex& origin : {TileIndex(0, 0), TileIndex(-7, 2), TileIndex(5, -1)}) {
+    window.setOrigin(origin);
+    const CellBox box = window.box();
+    const CellIndex& base = window.offsetOrigin();
+    // Every cell of the box through the tables; storageIndex also a window beyond the box.
+    for (int y = box.min.y() - size; y < box.max.y() + size; ++y) {
+      for (int x = box.min.x() - size; x < box.max.x() + size; ++x) {
+        ASSERT_EQ(window.storageIndex({x, y}), by_modulo(x, y)) << "x " << x << " y " << y;
+        if (!box.contains({x, y})) continue;
+        ASSERT_EQ(window.columnOffsets()[x - base.x()] + window.rowOffsets()[y - base.y()],
+                  by_modulo(x, y))
+            << "x " << x << " y " << y;
+      }
     }
   }
 }

@@ -75,13 +75,12 @@ template <int kMajor, typename Visit>
 __attribute__((always_inline)) inline void sweepFan(int column0, int row0, int step, FanRay* fan,
                                                     int count, const RollingWindow& window,
                                                     Visit& visit) {
-  const int size = window.sizeCells();
-  // Rays lie inside the window, so their rows and columns stay within one window of storage,
-  // where the offset tables wrap them.
+  // Rays lie inside the window, where the offset tables wrap rows and columns around storage.
   const int* const column_offsets = kMajor == 0 ? window.columnOffsets() : window.rowOffsets();
   const int* const row_offsets = kMajor == 0 ? window.rowOffsets() : window.columnOffsets();
-  const int row_shift = positiveMod(row0, size) - row0;  // cell row -> storage row
-  int storage_column = positiveMod(column0, size);
+  const CellIndex& offset_origin = window.offsetOrigin();
+  const int row_shift = -offset_origin[1 - kMajor];  // cell row -> index of row_offsets
+  int storage_column = column0 - offset_origin[kMajor];
   auto visit_rows = [&](int low, int high) {
     const int column_offset = column_offsets[storage_column];
     for (int r = low + row_shift; r <= high + row_shift; ++r)

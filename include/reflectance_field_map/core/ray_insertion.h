@@ -59,7 +59,6 @@ template <typename Visit>
 inline void walkWindowCells(const Eigen::Vector2d& start, const Eigen::Vector2d& end,
                             double inverse_resolution, const RollingWindow& window,
                             bool include_end, Visit&& visit) {
-  const int size = window.sizeCells();
   const double fx = start.x() * inverse_resolution, fy = start.y() * inverse_resolution;
   const double ex = end.x() * inverse_resolution, ey = end.y() * inverse_resolution;
   int cx = static_cast<int>(std::floor(fx)), cy = static_cast<int>(std::floor(fy));
@@ -72,9 +71,8 @@ inline void walkWindowCells(const Eigen::Vector2d& start, const Eigen::Vector2d&
   double t_max_y = dy == 0.0 ? inf : ((step_y > 0 ? cy + 1.0 : cy) - fy) / dy;
   const double t_delta_x = dx == 0.0 ? inf : std::abs(1.0 / dx);
   const double t_delta_y = dy == 0.0 ? inf : std::abs(1.0 / dy);
-  // Storage coordinates; the ray lies inside the window, so they stay within one window of
-  // storage, where the offset tables wrap them.
-  int x = positiveMod(cx, size), y = positiveMod(cy, size);
+  // Indices into the offset tables, which wrap the ray (inside the window) around storage.
+  int x = cx - window.offsetOrigin().x(), y = cy - window.offsetOrigin().y();
   const int* const column_offsets = window.columnOffsets();
   const int* const row_offsets = window.rowOffsets();
   int cells = remaining_x + remaining_y + (include_end ? 1 : 0);

@@ -29,14 +29,19 @@ class RollingWindow {
             << (2 * tile_shift_)) |
            ((storage_y & tile_mask_) << tile_shift_) | (storage_x & tile_mask_);
   }
-  // The slot split by axis: storageSlot(x, y) == columnOffsets()[x] + rowOffsets()[y] (the bits
-  // x and y set in a tile-major index are disjoint). Indices run from -sizeCells() to
-  // 2 sizeCells() - 1, one window either side of storage, so a walk that crosses the storage
-  // edge wraps by indexing instead of by a branch per cell.
-  const int* columnOffsets() const { return column_offsets_.data() + sizeCells(); }
-  const int* rowOffsets() const { return row_offsets_.data() + sizeCells(); }
-  // Storage slot of a cell inside the window.
+  // The slot split by axis: storageIndex({x, y}) == columnOffsets()[x - offsetOrigin().x()] +
+  // rowOffsets()[y - offsetOrigin().y()] (the bits x and y set in a tile-major index are
+  // disjoint) for every cell of the window. The tables hold two windows' worth of coordinates,
+  // so a walk inside the window wraps around storage by indexing, without a branch or a modulo.
+  const int* columnOffsets() const { return column_offsets_.data(); }
+  const int* rowOffsets() const { return row_offsets_.data(); }
+  const CellIndex& offsetOrigin() const { return offset_origin_; }
+  // Storage slot of a cell inside the window (any cell maps to some slot).
   int storageIndex(const CellIndex& cell) const {
+    const unsigned x = static_cast<unsigned>(cell.x() - offset_origin_.x());
+    const unsigned y = static_cast<unsigned>(cell.y() - offset_origin_.y());
+    const unsigned tabulated = static_cast<unsigned>(column_offsets_.size());
+    if (x < tabulated && y < tabulated) return column_offsets_[x] + row_offsets_[y];
     return storageSlot(storageCoordinate(cell.x()), storageCoordinate(cell.y()));
   }
   // First slot of a tile inside the window: its cells are [first, first + tileCells()^2).
@@ -89,7 +94,7 @@ class RollingWindow {
   int storageTile(const TileIndex& tile) const { return tileFirstSlot(tile) >> tileSlotShift(); }
   int storageTiles() const { return tiles_per_side_ * tiles_per_side_; }
 
-  void setOrigin(const TileIndex& origin_tile) { origin_tile_ = origin_tile; }
+  void setOrigin(const TileIndex& origin_tile);
 
  private:
   int tile_cells_;  // a power of two
@@ -97,6 +102,9 @@ class RollingWindow {
   int tile_mask_;
   int tiles_per_side_;
   TileIndex origin_tile_{0, 0};
+  // The cell at index 0 of the offset tables: the box's first cell maps into the tables' first
+  // window, so the whole box lies within the two.
+  CellIndex offset_origin_{0, 0};
   std::vector<int> column_offsets_, row_offsets_;
 };
 
