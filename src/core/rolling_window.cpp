@@ -8,9 +8,9 @@ RollingWindow::RollingWindow(int tile_cells, int tiles_per_side)
       tile_mask_(tile_cells - 1),
       tiles_per_side_(tiles_per_side) {
   const int size = sizeCells();
-  column_offsets_.resize(2 * static_cast<size_t>(size));
-  row_offsets_.resize(2 * static_cast<size_t>(size));
-  for (int i = 0; i < 2 * size; ++i) {
+  column_offsets_.resize(4 * static_cast<size_t>(size));
+  row_offsets_.resize(4 * static_cast<size_t>(size));
+  for (int i = 0; i < 4 * size; ++i) {
     column_offsets_[i] = storageSlot(i % size, 0);
     row_offsets_[i] = storageSlot(0, i % size);
   }
@@ -19,8 +19,10 @@ RollingWindow::RollingWindow(int tile_cells, int tiles_per_side)
 void RollingWindow::setOrigin(const TileIndex& origin_tile) {
   origin_tile_ = origin_tile;
   const CellIndex first = origin_tile * tile_cells_;
-  offset_origin_ = {first.x() - storageCoordinate(first.x()),
-                    first.y() - storageCoordinate(first.y())};
+  // A multiple of the window size, one window below the one holding the box's first cell.
+  const int size = sizeCells();
+  offset_origin_ = {first.x() - storageCoordinate(first.x()) - size,
+                    first.y() - storageCoordinate(first.y()) - size};
 }
 
 CellBox RollingWindow::box() const {

@@ -63,11 +63,13 @@ TEST(RollingWindow, AxisOffsetsAndStorageIndexAgreeWithTheModulo) {
     window.setOrigin(origin);
     const CellBox box = window.box();
     const CellIndex& base = window.offsetOrigin();
-    // Every cell of the box through the tables; storageIndex also a window beyond the box.
-    for (int y = box.min.y() - size; y < box.max.y() + size; ++y) {
-      for (int x = box.min.x() - size; x < box.max.x() + size; ++x) {
+    // The box and a window beyond it, through storageIndex and through the tables; storageIndex
+    // also further out.
+    for (int y = box.min.y() - 2 * size; y < box.max.y() + 2 * size; ++y) {
+      for (int x = box.min.x() - 2 * size; x < box.max.x() + 2 * size; ++x) {
         ASSERT_EQ(window.storageIndex({x, y}), by_modulo(x, y)) << "x " << x << " y " << y;
-        if (!box.contains({x, y})) continue;
+        const CellBox margin{box.min - CellIndex(size, size), box.max + CellIndex(size, size)};
+        if (!margin.contains({x, y})) continue;
         ASSERT_EQ(window.columnOffsets()[x - base.x()] + window.rowOffsets()[y - base.y()],
                   by_modulo(x, y))
             << "x " << x << " y " << y;

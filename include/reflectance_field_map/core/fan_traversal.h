@@ -80,13 +80,13 @@ __attribute__((always_inline)) inline void sweepFan(int column0, int row0, int s
   const int* const row_offsets = kMajor == 0 ? window.rowOffsets() : window.columnOffsets();
   const CellIndex& offset_origin = window.offsetOrigin();
   const int row_shift = -offset_origin[1 - kMajor];  // cell row -> index of row_offsets
-  int storage_column = column0 - offset_origin[kMajor];
+  int column_index = column0 - offset_origin[kMajor];  // index of column_offsets
   auto visit_rows = [&](int low, int high) {
-    const int column_offset = column_offsets[storage_column];
+    const int column_offset = column_offsets[column_index];
     for (int r = low + row_shift; r <= high + row_shift; ++r)
       visit(column_offset + row_offsets[r]);
   };
-  auto next_column = [&] { storage_column += step; };
+  auto next_column = [&] { column_index += step; };
   auto entry_row = [row0](const FanRay& ray, int column) {
     return column == 0 ? row0 : exitRow(ray, column - 1);
   };

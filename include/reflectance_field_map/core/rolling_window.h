@@ -31,8 +31,9 @@ class RollingWindow {
   }
   // The slot split by axis: storageIndex({x, y}) == columnOffsets()[x - offsetOrigin().x()] +
   // rowOffsets()[y - offsetOrigin().y()] (the bits x and y set in a tile-major index are
-  // disjoint) for every cell of the window. The tables hold two windows' worth of coordinates,
-  // so a walk inside the window wraps around storage by indexing, without a branch or a modulo.
+  // disjoint) for every cell of the window and up to a window beyond it. Walks inside the window
+  // thus wrap around storage by indexing, without a branch or a modulo, and a cell that rounding
+  // puts just outside still lands in the tables.
   const int* columnOffsets() const { return column_offsets_.data(); }
   const int* rowOffsets() const { return row_offsets_.data(); }
   const CellIndex& offsetOrigin() const { return offset_origin_; }
@@ -102,8 +103,8 @@ class RollingWindow {
   int tile_mask_;
   int tiles_per_side_;
   TileIndex origin_tile_{0, 0};
-  // The cell at index 0 of the offset tables: the box's first cell maps into the tables' first
-  // window, so the whole box lies within the two.
+  // The cell at index 0 of the offset tables, which span four windows: the box maps into the
+  // middle two, a window from either end.
   CellIndex offset_origin_{0, 0};
   std::vector<int> column_offsets_, row_offsets_;
 };
