@@ -79,7 +79,7 @@ __attribute__((always_inline)) inline void sweepFan(int column0, int row0, int s
   const int* const column_offsets = kMajor == 0 ? window.columnOffsets() : window.rowOffsets();
   const int* const row_offsets = kMajor == 0 ? window.rowOffsets() : window.columnOffsets();
   const CellIndex& offset_origin = window.offsetOrigin();
-  const int row_shift = -offset_origin[1 - kMajor];  // cell row -> index of row_offsets
+  const int row_shift = -offset_origin[1 - kMajor];    // cell row -> index of row_offsets
   int column_index = column0 - offset_origin[kMajor];  // index of column_offsets
   auto visit_rows = [&](int low, int high) {
     const int column_offset = column_offsets[column_index];
