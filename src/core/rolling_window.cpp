@@ -14,6 +14,7 @@ RollingWindow::RollingWindow(int tile_cells, int tiles_per_side)
     column_offsets_[i] = storageSlot(i % size, 0);
     row_offsets_[i] = storageSlot(0, i % size);
   }
+  setOrigin(origin_tile_);  // derives the tables' base for the initial origin
 }
 
 void RollingWindow::setOrigin(const TileIndex& origin_tile) {

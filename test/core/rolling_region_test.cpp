@@ -53,28 +53,36 @@ TEST(RollingWindow, WindowTilesKeepTheRadiusInside) {
   }
 }
 
-TEST(RollingWindow, AxisOffsetsAndStorageIndexAgreeWithTheModulo) {
-  RollingWindow window(16, 3);
+// Over the box and a window beyond it: the tables' indices lie in them and their offsets add up
+// to the modulo's slot; storageIndex agrees with the modulo further out too.
+void expectOffsetsAgreeWithTheModulo(const RollingWindow& window) {
   const int size = window.sizeCells();
   auto by_modulo = [&](int x, int y) {
     return window.storageSlot(positiveMod(x, size), positiveMod(y, size));
   };
-  for (const TileIndex& origin : {TileIndex(0, 0), TileIndex(-7, 2), TileIndex(5, -1)}) {
-    window.setOrigin(origin);
-    const CellBox box = window.box();
-    const CellIndex& base = window.offsetOrigin();
-    // The box and a window beyond it, through storageIndex and through the tables; storageIndex
-    // also further out.
-    for (int y = box.min.y() - 2 * size; y < box.max.y() + 2 * size; ++y) {
-      for (int x = box.min.x() - 2 * size; x < box.max.x() + 2 * size; ++x) {
-        ASSERT_EQ(window.storageIndex({x, y}), by_modulo(x, y)) << "x " << x << " y " << y;
-        const CellBox margin{box.min - CellIndex(size, size), box.max + CellIndex(size, size)};
-        if (!margin.contains({x, y})) continue;
-        ASSERT_EQ(window.columnOffsets()[x - base.x()] + window.rowOffsets()[y - base.y()],
-                  by_modulo(x, y))
-            << "x " << x << " y " << y;
-      }
+  const CellBox box = window.box();
+  const CellBox margin{box.min - CellIndex(size, size), box.max + CellIndex(size, size)};
+  const CellIndex& base = window.offsetOrigin();
+  for (int y = box.min.y() - 2 * size; y < box.max.y() + 2 * size; ++y) {
+    for (int x = box.min.x() - 2 * size; x < box.max.x() + 2 * size; ++x) {
+      ASSERT_EQ(window.storageIndex({x, y}), by_modulo(x, y)) << "x " << x << " y " << y;
+      if (!margin.contains({x, y})) continue;
+      const int column = x - base.x(), row = y - base.y();
+      ASSERT_TRUE(column >= 0 && column < 4 * size && row >= 0 && row < 4 * size)
+          << "x " << x << " y " << y;
+      ASSERT_EQ(window.columnOffsets()[column] + window.rowOffsets()[row], by_modulo(x, y))
+          << "x " << x << " y " << y;
     }
+  }
+}
+
+TEST(RollingWindow, AxisOffsetsAndStorageIndexAgreeWithTheModulo) {
+  RollingWindow window(16, 3);
+  expectOffsetsAgreeWithTheModulo(window);  // as constructed, before any re-centring
+  for (const TileIndex& origin : {TileIndex(-7, 2), TileIndex(5, -1), TileIndex(0, 0)}) {
+    SCOPED_TRACE(origin.transpose());
+    window.setOrigin(origin);
+    expectOffsetsAgreeWithTheModulo(window);
   }
 }
 

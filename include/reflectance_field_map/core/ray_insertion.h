@@ -50,7 +50,7 @@ class alignas(64) DeduplicatingRayInserter {
   size_t updates_ = 0;
 };
 
-// Walks a ray's cells, in order, in window storage coordinates with everything in registers
+// Walks a ray's cells, in order, as window storage slots with everything in registers
 // (the generic GridRayTraversal keeps per-axis arrays, which costs a store-to-load round trip per
 // step). Same cells, same order, same drift guard as GridRayTraversal. Calls
 // visit(slot, cell_x, cell_y) for each cell up to the end cell (included when `include_end`);

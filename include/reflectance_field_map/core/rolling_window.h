@@ -104,8 +104,8 @@ class RollingWindow {
   int tiles_per_side_;
   TileIndex origin_tile_{0, 0};
   // The cell at index 0 of the offset tables, which span four windows: the box maps into the
-  // middle two, a window from either end.
-  CellIndex offset_origin_{0, 0};
+  // middle two, a window from either end. Set with the origin (setOrigin).
+  CellIndex offset_origin_;
   std::vector<int> column_offsets_, row_offsets_;
 };
 
