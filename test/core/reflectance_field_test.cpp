@@ -4,8 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <cstdlib>
 #include <random>
+#include <vector>
 
 namespace rfm {
 namespace {
@@ -246,6 +249,54 @@ TEST(ReflectanceField, SummariesMatchBinsAfterRandomUpdates) {
   }
 }
 
+// The slice writers decide with one range test whether an update can cross the prior: with
+// steps smaller than, equal to and larger than the clamps, applied at once or deferred, the
+// summaries must still match the bins.
+TEST(ReflectanceField, SliceWriterSummariesMatchBinsForAnyStepsAndClamps) {
+  struct Steps {
+    double hit, miss, min, max;
+  };
+  for (const Steps& steps : {Steps{0.85, -0.4, -2.0, 3.5}, Steps{0.0625, -0.0625, -0.0625, 0.0625},
+                             Steps{7.9375, -7.9375, -0.5, 0.25}, Steps{0.25, -1.0, -7.9375, 7.9375},
+                             Steps{1.0, -0.125, -1.0, 1.0}}) {
+    LogOddsOptions log_odds;
+    log_odds.log_odds_hit = steps.hit;
+    log_odds.log_odds_miss = steps.miss;
+    log_odds.log_odds_min = steps.min;
+    log_odds.log_odds_max = steps.max;
+    ReflectanceField field(GridOptions(), log_odds, testing::regionOfRadius(2.0));
+    field.recenter({0.0, 0.0});
+    std::mt19937 rng(11);
+    std::uniform_int_distribution<int> coordinate(-3, 3), bin(0, 179), coin(0, 2);
+    for (const bool deferred : {false, true}) {
+      std::vector<ReflectanceField::SummaryChange> changes;
+      for (int i = 0; i < 100000; ++i) {
+        const int slot = field.window().storageIndex({coordinate(rng), coordinate(rng)});
+        auto writer = field.sliceWriter(bin(rng), deferred ? &changes : nullptr);
+        if (coin(rng) == 0) {
+          writer.hit(slot);
+        } else {
+          writer.miss(slot);
+        }
+      }
+      field.applySummaryChanges(changes);
+    }
+    for (int cy = -3; cy <= 3; ++cy) {
+      for (int cx = -3; cx <= 3; ++cx) {
+        int reflective = 0, missed = 0;
+        for (int b = 0; b < 180; ++b) {
+          const int8_t v = field.value({cx, cy}, b);
+          reflective += v > 0;
+          missed += v < 0;
+          ASSERT_EQ(field.isReflective({cx, cy}, b), v > 0) << "hit step " << steps.hit;
+        }
+        ASSERT_EQ(field.reflectiveBins({cx, cy}), reflective) << "hit step " << steps.hit;
+        ASSERT_EQ(field.missedBins({cx, cy}), missed) << "hit step " << steps.hit;
+      }
+    }
+  }
+}
+
 // Online reflection removal takes evidence back; clamping means a miss at the lower clamp
 // changed nothing, so reverts stop at the prior instead of inventing the opposite evidence.
 TEST(ReflectanceField, RevertsMoveTowardsThePriorAndNeverPastIt) {
@@ -278,6 +329,24 @@ TEST(ReflectanceField, DefaultActiveRegionFitsInFortyMegabytes) {
   ReflectanceField field{GridOptions(), LogOddsOptions(), ActiveRegionOptions()};
   EXPECT_EQ(field.window().sizeCells(), 27 * 16);  // 10 m each way from anywhere in the centre tile
   EXPECT_LE(field.activeBytes(), 40u * 1000u * 1000u);
+}
+
+// The field's slices come from this allocator: large blocks start on a huge page (so the kernel
+// can back them with huge pages), small ones are ordinary; both hold what is written.
+TEST(HugePageAllocator, LargeBlocksStartOnAHugePageAndAllBlocksHoldTheirValues) {
+  constexpr size_t kHuge = HugePageAllocator<int8_t>::kHugePageBytes;
+  HugePageVector<int8_t> large(kHuge + 12345, 0);
+  EXPECT_EQ(reinterpret_cast<uintptr_t>(large.data()) % kHuge, 0u);
+  large.back() = 7;
+  EXPECT_EQ(std::count(large.begin(), large.end(), 0), static_cast<long>(large.size()) - 1);
+  HugePageVector<uint64_t> small(100, 3);
+  small.resize(kHuge / sizeof(uint64_t) + 1, 5);  // grows from a small block to a large one
+  EXPECT_EQ(small[99], 3u);
+  EXPECT_EQ(small.back(), 5u);
+  EXPECT_EQ(reinterpret_cast<uintptr_t>(small.data()) % kHuge, 0u);
+  small.resize(10);
+  small.shrink_to_fit();  // back to a small block
+  EXPECT_EQ(small[9], 3u);
 }
 
 TEST(TileArchive, CompressionRoundTripsEveryPattern) {

@@ -1,6 +1,7 @@
 #pragma once
 
 #include "reflectance_field_map/core/grid_geometry.h"
+#include "reflectance_field_map/core/huge_page_allocator.h"
 #include "reflectance_field_map/core/log_odds.h"
 #include "reflectance_field_map/core/options.h"
 #include "reflectance_field_map/core/parallel_runner.h"
@@ -87,23 +88,26 @@ class ReflectanceField {
       if (!__atomic_load_n(&hit_flags_[slot], __ATOMIC_RELAXED)) {
         __atomic_store_n(&hit_flags_[slot], uint8_t{1}, __ATOMIC_RELAXED);
       }
-      const int reflective = old <= 0 && updated > 0;
-      const int missed = old < 0 && updated >= 0 ? -1 : 0;
-      if (reflective | missed) change(slot, reflective, missed);
+      // Only a bin in [-hit_step, 0] reaches or crosses the prior (p = 0.5) on a hit: one test.
+      if (static_cast<unsigned>(old + hit_step_) <= static_cast<unsigned>(hit_step_)) {
+        change(slot, old <= 0 && updated > 0, old < 0 && updated >= 0 ? -1 : 0);
+      }
     }
     void miss(int slot) {
       int8_t& v = bins_[slot];
       const int old = v;
       const int updated = old + miss_step_ < min_ ? min_ : old + miss_step_;
       v = static_cast<int8_t>(updated);
-      const int reflective = old > 0 && updated <= 0 ? -1 : 0;
-      const int missed = old >= 0 && updated < 0;
-      if (reflective | missed) change(slot, reflective, missed);
+      // Only a bin in [0, -miss_step] reaches or crosses the prior on a miss: one test.
+      if (static_cast<unsigned>(old) <= static_cast<unsigned>(-miss_step_)) {
+        change(slot, old > 0 && updated <= 0 ? -1 : 0, old >= 0 && updated < 0);
+      }
     }
 
    private:
     friend class ReflectanceField;
     void change(int slot, int reflective, int missed) {
+      if ((reflective | missed) == 0) return;
       if (deferred_) {
         deferred_->push_back({slot, static_cast<int16_t>(bin_), static_cast<int8_t>(reflective),
                               static_cast<int8_t>(missed)});
@@ -277,14 +281,14 @@ class ReflectanceField {
   size_t plane_;  // cells in one theta slice of the window
   int mask_words_;
   bool centred_ = false;
-  std::vector<int8_t> bins_;                // [bin][y][x]
-  std::vector<uint64_t> reflective_masks_;  // [y][x][word]
-  std::vector<uint16_t> missed_bins_;       // [y][x]
-  std::vector<uint8_t> hit_since_tick_;     // [y][x]
-  std::vector<uint16_t> reflective_bins_;   // [y][x]
-  std::vector<uint8_t> confirmed_ticks_;    // [y][x]
-  std::vector<int> tile_reflective_cells_;  // per storage tile
-  std::vector<uint32_t> tile_versions_;     // per storage tile
+  HugePageVector<int8_t> bins_;                // [bin][y][x]
+  HugePageVector<uint64_t> reflective_masks_;  // [y][x][word]
+  std::vector<uint16_t> missed_bins_;          // [y][x]
+  std::vector<uint8_t> hit_since_tick_;        // [y][x]
+  std::vector<uint16_t> reflective_bins_;      // [y][x]
+  std::vector<uint8_t> confirmed_ticks_;       // [y][x]
+  std::vector<int> tile_reflective_cells_;     // per storage tile
+  std::vector<uint32_t> tile_versions_;        // per storage tile
   // A new number for every field object, copies and assignments included.
   struct Identity {
     Identity();
