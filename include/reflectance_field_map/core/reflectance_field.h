@@ -106,8 +106,8 @@ class ReflectanceField {
 
    private:
     friend class ReflectanceField;
+    // Called only for a change: every value in the ranges tested above crosses or reaches 0.
     void change(int slot, int reflective, int missed) {
-      if ((reflective | missed) == 0) return;
       if (deferred_) {
         deferred_->push_back({slot, static_cast<int16_t>(bin_), static_cast<int8_t>(reflective),
                               static_cast<int8_t>(missed)});
