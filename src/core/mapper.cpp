@@ -292,7 +292,7 @@ MotionRemovalSummary Mapper::removeMotion() {
     ++summary.glass_cells;
   }
   std::vector<uint8_t>& completed_here = impl_->completed_storage_tiles;  // by storage tile
-  completed_here.assign(static_cast<size_t>(window.tilesPerSide()) * window.tilesPerSide(), 0);
+  completed_here.assign(window.storageTiles(), 0);
   for (const auto* tiles : {&completed_tiles, &impl_->completed_tiles}) {
     for (const TileIndex& tile : *tiles) {
       if (window.contains(window.tileBox(tile).min)) completed_here[window.storageTile(tile)] = 1;
