@@ -7,6 +7,11 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+#include <set>
+#include <utility>
+#include <vector>
+
 namespace rfm {
 namespace {
 
@@ -58,6 +63,57 @@ TEST(ScanInserter, OneUpdatePerCellAndBinPerScanAndHitsWin) {
   // The next scan updates them again.
   f.inserter.insert(rays, f.field);
   EXPECT_EQ(f.field.value({5, 0}, bin), model.miss(model.miss(0)));
+}
+
+// Alg. 1 ray by ray: per theta bin, a hit on each hit ray's end cell and a miss on every other
+// cell its rays cross, each (cell, bin) once.
+std::vector<BinUpdate> referenceUpdates(const std::vector<Ray>& rays,
+                                        const ReflectanceField& field) {
+  const RollingWindow& window = field.window();
+  const double inverse_resolution = field.geometry().inverseResolution();
+  std::set<std::pair<int, int>> hits, misses;  // (slot, bin)
+  for (const Ray& ray : rays) {
+    const int bin = field.geometry().binOf(ray.angle);
+    if (ray.hit) hits.insert({window.storageIndex(field.geometry().cellOf(ray.end)), bin});
+    walkWindowCells(ray.origin, ray.end, inverse_resolution, window, true, [&](int slot, int, int) {
+      misses.insert({slot, bin});
+      return true;
+    });
+  }
+  std::vector<BinUpdate> updates;
+  for (const auto& [slot, bin] : misses) {
+    const bool hit = hits.count({slot, bin}) > 0;
+    updates.push_back({slot, static_cast<int16_t>(bin), hit});
+  }
+  return updates;  // sorted by (slot, bin), as the set was
+}
+
+TEST(ScanInserter, UpdatesMatchAlgorithmOneRayByRayOnRandomScans) {
+  // Scans as a lidar makes them (one origin, beams in order, any lengths, some without a
+  // return), from coarse to far finer than 8 beams a bin, where one bin's beams form several
+  // fans whose cells overlap.
+  ReflectanceField field = testing::centredField(8.0);
+  ScanInserter inserter;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<BinUpdate> swept;
+  for (int trial = 0; trial < 200; ++trial) {
+    const Eigen::Vector2d origin(4.0 * unit(rng) - 2.0, 4.0 * unit(rng) - 2.0);
+    const double increment = std::vector<double>{0.0044, 0.0005, 0.02}[trial % 3];
+    const int beams = 1 + static_cast<int>(unit(rng) * (trial % 3 == 1 ? 2000 : 1081));
+    const double first_angle = unit(rng) * 2 * kPi;
+    std::vector<Ray> rays;
+    for (int k = 0; k < beams; ++k) {
+      const double angle = first_angle + k * increment;
+      const double range = unit(rng) < 0.3 ? 5.5 : 0.2 + 5.0 * unit(rng);
+      Ray ray = makeRay(origin, origin + range * Eigen::Vector2d(std::cos(angle), std::sin(angle)),
+                        unit(rng) < 0.8, static_cast<uint32_t>(k));
+      ray.angle = wrapTwoPi(angle);
+      rays.push_back(ray);
+    }
+    inserter.collectUpdates(rays, field, swept);
+    ASSERT_EQ(swept, referenceUpdates(rays, field)) << "trial " << trial;
+  }
 }
 
 TEST(ScanInserter, RaysLeavingTheWindowKeepMissesAndLoseTheirHit) {

@@ -9,6 +9,8 @@
 #include <cstdint>
 #include <cstdlib>
 #include <limits>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace rfm {
@@ -26,6 +28,13 @@ inline int floorToInt(double value) {
 }
 
 constexpr int kMaxFanRays = 32;
+
+// Whether a visitor offers once(slot), for visits the sweep knows to be the only visit of a
+// cell that is no ray's end cell (see visitCellsOfRays).
+template <typename Visit, typename = void>
+struct HasOnce : std::false_type {};
+template <typename Visit>
+struct HasOnce<Visit, std::void_t<decltype(std::declval<Visit&>().once(0))>> : std::true_type {};
 
 constexpr int kFractionBits = 32;
 constexpr int64_t kOneCell = int64_t{1} << kFractionBits;
@@ -71,7 +80,7 @@ inline int columnsJoined(const FanRay& a, const FanRay& b) {
 
 // Always inlined: the caller's visitor then stays a local that no pointer reaches, so its state
 // lives in registers even though a visitor's byte stores may alias any memory.
-template <int kMajor, typename Visit>
+template <int kMajor, bool kJoinedOnce, typename Visit>
 __attribute__((always_inline)) inline void sweepFan(int column0, int row0, int step, FanRay* fan,
                                                     int count, const RollingWindow& window,
                                                     Visit& visit) {
@@ -85,6 +94,17 @@ __attribute__((always_inline)) inline void sweepFan(int column0, int row0, int s
     const int column_offset = column_offsets[column_index];
     for (int r = low + row_shift; r <= high + row_shift; ++r)
       visit(column_offset + row_offsets[r]);
+  };
+  // The joined columns' runs: each cell once, and no ray ends there.
+  auto visit_joined_rows = [&](int low, int high) {
+    const int column_offset = column_offsets[column_index];
+    for (int r = low + row_shift; r <= high + row_shift; ++r) {
+      if constexpr (kJoinedOnce) {
+        visit.once(column_offset + row_offsets[r]);
+      } else {
+        visit(column_offset + row_offsets[r]);
+      }
+    }
   };
   auto next_column = [&] { column_index += step; };
   auto entry_row = [row0](const FanRay& ray, int column) {
@@ -116,8 +136,8 @@ __attribute__((always_inline)) inline void sweepFan(int column0, int row0, int s
       int first_row = entry_row(first, column), last_row = entry_row(last, column);
       for (; column < joined_end; ++column) {
         const int first_exit = exitRow(first, column), last_exit = exitRow(last, column);
-        visit_rows(std::min(std::min(first_row, first_exit), std::min(last_row, last_exit)),
-                   std::max(std::max(first_row, first_exit), std::max(last_row, last_exit)));
+        visit_joined_rows(std::min(std::min(first_row, first_exit), std::min(last_row, last_exit)),
+                          std::max(std::max(first_row, first_exit), std::max(last_row, last_exit)));
         first_row = first_exit;
         last_row = last_exit;
         next_column();
@@ -159,6 +179,9 @@ __attribute__((always_inline)) inline void sweepFan(int column0, int row0, int s
 // may take different sides (both are exact up to rounding); real rays practically never do.
 // The visitor goes in by value and comes back, as with std::for_each: a visitor holding its state
 // by value (not through references) is swept with that state in registers.
+// When all rays form one fan (one theta bin's beams of a scan), the columns where every ray is
+// still under way are swept as one run per column: each of their cells is visited once and ends
+// no ray. For those the sweep calls visit.once(slot) instead, if the visitor has it.
 template <typename Visit>
 Visit visitCellsOfRays(const std::vector<Ray>& rays, const uint32_t* order, size_t count,
                        double inverse_resolution, const RollingWindow& window, Visit visit) {
@@ -210,10 +233,23 @@ Visit visitCellsOfRays(const std::vector<Ray>& rays, const uint32_t* order, size
       entry.row_low = std::min(row0, entry.end_row);
       entry.row_high = std::max(row0, entry.end_row);
     }
+    // A fan holding every ray of the call is the only one to visit the cells of its joined
+    // columns, and no ray ends there: a visitor that offers once(slot) skips its
+    // de-duplication for them.
+    if constexpr (fan_detail::HasOnce<Visit>::value) {
+      if (k == count && k == static_cast<size_t>(count_in_fan)) {
+        if (major == 0) {
+          fan_detail::sweepFan<0, true>(column0, row0, step, fan, count_in_fan, window, visit);
+        } else {
+          fan_detail::sweepFan<1, true>(column0, row0, step, fan, count_in_fan, window, visit);
+        }
+        continue;
+      }
+    }
     if (major == 0) {
-      fan_detail::sweepFan<0>(column0, row0, step, fan, count_in_fan, window, visit);
+      fan_detail::sweepFan<0, false>(column0, row0, step, fan, count_in_fan, window, visit);
     } else {
-      fan_detail::sweepFan<1>(column0, row0, step, fan, count_in_fan, window, visit);
+      fan_detail::sweepFan<1, false>(column0, row0, step, fan, count_in_fan, window, visit);
     }
   }
   return visit;

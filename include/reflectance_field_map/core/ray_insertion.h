@@ -110,6 +110,11 @@ struct MissWriter {
       ++updates;
     }
   }
+  // A cell the sweep visits only once in the group, and no hit cell: no stamp needed.
+  void once(int slot) {
+    writer.miss(slot);
+    ++updates;
+  }
 };
 
 }  // namespace insertion_detail

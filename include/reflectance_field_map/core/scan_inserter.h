@@ -23,6 +23,9 @@ struct BinUpdate {
   int16_t bin;
   bool hit;
   bool operator<(const BinUpdate& o) const { return slot != o.slot ? slot < o.slot : bin < o.bin; }
+  bool operator==(const BinUpdate& o) const {
+    return slot == o.slot && bin == o.bin && hit == o.hit;
+  }
 };
 
 class ScanInserter {
