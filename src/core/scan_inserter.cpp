@@ -6,10 +6,25 @@ namespace rfm {
 
 namespace {
 
+// A group is a theta bin: one scan's rays of it form one fan.
 struct FieldTarget {
+  static constexpr bool kOneFanPerGroup = true;
   ReflectanceField& field;
   std::vector<ReflectanceField::SummaryChange>* deferred;  // null: apply summaries at once
   ReflectanceField::SliceWriter writer(int bin) { return field.sliceWriter(bin, deferred); }
+};
+
+// Records the updates instead of applying them (not thread-safe).
+struct UpdateRecorder {
+  static constexpr bool kOneFanPerGroup = true;  // as FieldTarget
+  std::vector<BinUpdate>& out;
+  struct Writer {
+    std::vector<BinUpdate>& out;
+    int16_t bin;
+    void hit(int slot) { out.push_back({slot, bin, true}); }
+    void miss(int slot) { out.push_back({slot, bin, false}); }
+  };
+  Writer writer(int bin) { return {out, static_cast<int16_t>(bin)}; }
 };
 
 }  // namespace
@@ -137,20 +152,10 @@ size_t ScanInserter::insertScans(const std::vector<std::vector<Ray>>& scans, siz
 
 void ScanInserter::collectUpdates(const std::vector<Ray>& rays, const ReflectanceField& field,
                                   std::vector<BinUpdate>& updates) {
-  struct Recorder {
-    std::vector<BinUpdate>& out;
-    struct Writer {
-      std::vector<BinUpdate>& out;
-      int16_t bin;
-      void hit(int slot) { out.push_back({slot, bin, true}); }
-      void miss(int slot) { out.push_back({slot, bin, false}); }
-    };
-    Writer writer(int bin) { return {out, static_cast<int16_t>(bin)}; }
-  } recorder{updates};
+  UpdateRecorder recorder{updates};
   updates.clear();
-  // The recorder is not thread-safe.
   run(
-      rays, field, [&](int) -> Recorder& { return recorder; }, /*parallel=*/false);
+      rays, field, [&](int) -> UpdateRecorder& { return recorder; }, /*parallel=*/false);
   std::sort(updates.begin(), updates.end());
 }
 

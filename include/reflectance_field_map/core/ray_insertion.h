@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 namespace rfm {
@@ -30,6 +31,9 @@ void clipRayToLength(double max_length, Ray& ray);
 class alignas(64) DeduplicatingRayInserter {
  public:
   // For each group g, `target.writer(g)` returns an object with hit(slot) and miss(slot).
+  // A target whose groups are each one scan's rays of one theta bin, which form one fan,
+  // declares `static constexpr bool kOneFanPerGroup = true`: those sweeps then skip the stamps
+  // where they can (visitCellsOfRays). The plain grid's one group is a whole scan.
   // `rays` are already clipped; `group_begin[g]..group_begin[g+1]` index `order`. Only groups
   // in [first_group, end_group) are inserted (all by default): inserters with their own stamps
   // may take disjoint group ranges concurrently.
@@ -110,12 +114,23 @@ struct MissWriter {
       ++updates;
     }
   }
-  // A cell the sweep visits only once in the group, and no hit cell: no stamp needed.
+};
+
+// For groups that are one fan of rays (Target::kOneFanPerGroup): cells the sweep visits once
+// and that end no ray (visitCellsOfRays) take their miss without a stamp.
+template <typename Writer>
+struct FanMissWriter : MissWriter<Writer> {
   void once(int slot) {
-    writer.miss(slot);
-    ++updates;
+    this->writer.miss(slot);
+    ++this->updates;
   }
 };
+
+template <typename Target, typename = void>
+struct OneFanPerGroup : std::false_type {};
+template <typename Target>
+struct OneFanPerGroup<Target, std::void_t<decltype(Target::kOneFanPerGroup)>>
+    : std::bool_constant<Target::kOneFanPerGroup> {};
 
 }  // namespace insertion_detail
 
@@ -148,7 +163,9 @@ void DeduplicatingRayInserter::insert(const RollingWindow& window, double invers
     }
     // Misses on every cell of the group's rays. A hit ray's end cell holds its hit: stamped
     // above, so the sweep (which covers end cells) passes over it.
-    using Misses = insertion_detail::MissWriter<decltype(writer)>;
+    using Misses = std::conditional_t<insertion_detail::OneFanPerGroup<Target>::value,
+                                      insertion_detail::FanMissWriter<decltype(writer)>,
+                                      insertion_detail::MissWriter<decltype(writer)>>;
     const Misses misses = visitCellsOfRays(rays, &order[begin], end - begin, inverse_resolution,
                                            window, Misses{stamps, stamp, writer});
     updates += misses.updates;
