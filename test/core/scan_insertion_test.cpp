@@ -96,10 +96,11 @@ TEST(ScanInserter, UpdatesMatchAlgorithmOneRayByRayOnRandomScans) {
   ScanInserter inserter;
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
+  constexpr double kIncrements[] = {0.0044, 0.0005, 0.02};  // rad: 0.25, 0.03 and 1.1 deg
   std::vector<BinUpdate> swept;
   for (int trial = 0; trial < 200; ++trial) {
     const Eigen::Vector2d origin(4.0 * unit(rng) - 2.0, 4.0 * unit(rng) - 2.0);
-    const double increment = std::vector<double>{0.0044, 0.0005, 0.02}[trial % 3];
+    const double increment = kIncrements[trial % 3];
     const int beams = 1 + static_cast<int>(unit(rng) * (trial % 3 == 1 ? 2000 : 1081));
     const double first_angle = unit(rng) * 2 * kPi;
     std::vector<Ray> rays;
