@@ -38,6 +38,38 @@ void reportRays(benchmark::State& state) {
   state.counters["mean_ray_cells"] = static_cast<double>(cells) / rays;
 }
 
+// Share of a scan's RFM cell visits that the sweep makes without de-duplication marks (a theta
+// bin's single fan, in the columns where all its rays are under way; visitCellsOfRays).
+double unmarkedVisitShare() {
+  struct Counter {
+    size_t* marked;
+    size_t* unmarked;
+    void operator()(int) { ++*marked; }
+    void once(int) { ++*unmarked; }
+  };
+  const MapperOptions options;
+  ReflectanceField field(options.grid, options.log_odds, options.active_region);
+  size_t marked = 0, unmarked = 0;
+  std::vector<Ray> clipped;
+  std::vector<uint32_t> order, group_begin;
+  for (const auto& s : scans()) {
+    field.recenter(s.scan.robot_pose.position);
+    clipped.clear();
+    for (Ray ray : s.rays) {
+      if (clipRayToBox(field.activeBox(), field.geometry().resolution(), ray)) {
+        clipped.push_back(ray);
+      }
+    }
+    bucketRaysByBin(clipped, field.geometry(), order, group_begin);
+    for (size_t bin = 0; bin + 1 < group_begin.size(); ++bin) {
+      visitCellsOfRays(
+          clipped, order.data() + group_begin[bin], group_begin[bin + 1] - group_begin[bin],
+          field.geometry().inverseResolution(), field.window(), Counter{&marked, &unmarked});
+    }
+  }
+  return static_cast<double>(unmarked) / std::max<size_t>(marked + unmarked, 1);
+}
+
 // Argument: insertion threads (the default options use 2; 1 shows the single-thread cost).
 void BM_RfmInsert(benchmark::State& state) {
   const MapperOptions options;
@@ -55,6 +87,8 @@ void BM_RfmInsert(benchmark::State& state) {
   // One per (cell, theta bin) a scan's rays cross: what Alg. 1 must write.
   state.counters["updates_per_scan"] = static_cast<double>(updates) / std::max<size_t>(i, 1);
   state.counters["active_region_MB"] = field.activeBytes() / 1e6;
+  static const double unmarked_share = unmarkedVisitShare();
+  state.counters["unmarked_visit_share"] = unmarked_share;
 }
 BENCHMARK(BM_RfmInsert)->Arg(2)->Arg(1)->Unit(benchmark::kMillisecond);
 
