@@ -52,6 +52,13 @@ TEST(ClearanceMap, NoLeapOutsideTheBoxOrBeforeComputing) {
   EXPECT_GT(map.at({20, 20}), 8);
   EXPECT_EQ(map.at({40, 20}), 0);
   EXPECT_EQ(map.at({-1, 0}), 0);
+  // A box off the origin: cells on either side of it, on both axes.
+  map.compute({{-30, -10}, {10, 30}}, [](int, int) { return true; });
+  EXPECT_GT(map.at({-10, 10}), 8);
+  EXPECT_EQ(map.at({-31, 10}), 0);
+  EXPECT_EQ(map.at({10, 10}), 0);
+  EXPECT_EQ(map.at({-10, -11}), 0);
+  EXPECT_EQ(map.at({-10, 30}), 0);
   map.clear();
   EXPECT_EQ(map.at({20, 20}), 0);
 }

@@ -39,6 +39,15 @@ TEST(GridGeometry, WrapTwoPiStaysInRange) {
   }
 }
 
+TEST(GridGeometry, FloorToIntMatchesStdFloor) {
+  for (double v : {0.0, -0.0, 0.5, -0.5, 1.0, -1.0, -1e-300, 1e-300, 2.999999999, -2.000000001,
+                   -123456.0, 123456.75, -2147483647.5}) {
+    EXPECT_EQ(floorToInt(v), static_cast<int>(std::floor(v))) << v;
+  }
+  for (double v = -50.0; v < 50.0; v += 0.0625 / 3.0)
+    ASSERT_EQ(floorToInt(v), static_cast<int>(std::floor(v))) << v;
+}
+
 TEST(GridGeometry, IntegerHelpers) {
   EXPECT_EQ(floorDiv(-1, 16), -1);
   EXPECT_EQ(floorDiv(-16, 16), -1);

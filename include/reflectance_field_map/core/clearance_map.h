@@ -33,9 +33,13 @@ class ClearanceMap {
   }
 
   int at(const CellIndex& cell) const {
-    if (!box_.contains(cell)) return 0;
-    const int bx = (cell.x() - box_.min.x()) / kBlock, by = (cell.y() - box_.min.y()) / kBlock;
-    const int blocks = blocks_[static_cast<size_t>(by) * blocks_x_ + bx];
+    // Unsigned offsets: one compare per axis tests both sides of the box, and divide as shifts.
+    const unsigned dx = static_cast<unsigned>(cell.x() - box_.min.x());
+    const unsigned dy = static_cast<unsigned>(cell.y() - box_.min.y());
+    if (dx >= static_cast<unsigned>(box_.width()) || dy >= static_cast<unsigned>(box_.height())) {
+      return 0;
+    }
+    const int blocks = blocks_[static_cast<size_t>(dy / kBlock) * blocks_x_ + dx / kBlock];
     // All blocks within blocks - 1 are empty: so is every cell within kBlock * (blocks - 1).
     return blocks == 0 ? 0 : kBlock * (blocks - 1) + 1;
   }

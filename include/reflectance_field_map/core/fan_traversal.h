@@ -21,12 +21,6 @@ namespace rfm {
 // visits the union of its rays' cells, mostly once each.
 namespace fan_detail {
 
-// std::floor is a library call on baseline x86-64 (no SSE4.1); this is a few instructions.
-inline int floorToInt(double value) {
-  const int truncated = static_cast<int>(value);
-  return truncated - (value < truncated);
-}
-
 constexpr int kMaxFanRays = 32;
 
 // Whether a visitor offers once(slot), for visits the sweep knows to be the only visit of a
@@ -198,8 +192,8 @@ Visit visitCellsOfRays(const std::vector<Ray>& rays, const uint32_t* order, size
     const int major = std::abs(head_delta.x()) >= std::abs(head_delta.y()) ? 0 : 1;
     const int minor = 1 - major;
     const int step = head_delta[major] > 0 ? 1 : -1;
-    const int column0 = fan_detail::floorToInt(start[major]);
-    const int row0 = fan_detail::floorToInt(start[minor]);
+    const int column0 = floorToInt(start[major]);
+    const int row0 = floorToInt(start[minor]);
     // From the start to the first column's far edge, along the major axis.
     const double first_edge =
         (step > 0 ? column0 + 1.0 : static_cast<double>(column0)) - start[major];
@@ -229,8 +223,8 @@ Visit visitCellsOfRays(const std::vector<Ray>& rays, const uint32_t* order, size
       entry.per_column = fan_detail::toFixed(step * slope);
       const bool descending = end_minor < start[minor];
       entry.tie_bias = descending == (major == 0) ? 1 : 0;
-      entry.columns = std::abs(fan_detail::floorToInt(end_major) - column0);
-      entry.end_row = fan_detail::floorToInt(end_minor);
+      entry.columns = std::abs(floorToInt(end_major) - column0);
+      entry.end_row = floorToInt(end_minor);
       entry.row_low = std::min(row0, entry.end_row);
       entry.row_high = std::max(row0, entry.end_row);
     }

@@ -24,7 +24,7 @@ inline bool blocksRays(CellClass c) {
 class PassThroughDetector {
  public:
   PassThroughDetector(const Ray& ray, const GridGeometry& geometry, double penetration_tolerance)
-      : geometry_(geometry), origin_(ray.origin), bin_(geometry.binOf(ray.angle)) {
+      : geometry_(geometry), origin_(ray.origin), angle_(ray.angle) {
     const Eigen::Vector2d delta = ray.end - ray.origin;
     const double length = delta.norm();
     direction_ = length > 0.0 ? Eigen::Vector2d(delta / length) : Eigen::Vector2d(1.0, 0.0);
@@ -46,7 +46,7 @@ class PassThroughDetector {
     }
     if (blocked_at_ < 0.0) {
       const bool blocking = c == CellClass::kGlass || c == CellClass::kMetal ||
-                            (c == CellClass::kStatic && !reflective_near(bin_));
+                            (c == CellClass::kStatic && !reflective_near(bin()));
       if (blocking && passesNearCentre(cell) && crossesASurface(cell, class_of)) {
         blocked_at_ = along;
       }
@@ -64,6 +64,13 @@ class PassThroughDetector {
   double distance() const { return decided_ ? blocked_at_ : -1.0; }
 
  private:
+  // The ray's theta bin, computed on first use: most rays meet no static cell before their end,
+  // and binOf costs a floating-point remainder.
+  int bin() {
+    if (bin_ < 0) bin_ = geometry_.binOf(angle_);
+    return bin_;
+  }
+
   // A ray crossing a one-cell-thick surface passes within half a cell of the centre of one of
   // its cells; a ray that only clips the corner of a structure's end cell never does.
   bool passesNearCentre(const CellIndex& cell) const {
@@ -95,7 +102,8 @@ class PassThroughDetector {
   const GridGeometry& geometry_;
   Eigen::Vector2d origin_;
   Eigen::Vector2d direction_;
-  int bin_;
+  double angle_;
+  int bin_ = -1;
   double last_candidate_ = 0.0;
   double blocked_at_ = -1.0;
   bool decided_ = false;

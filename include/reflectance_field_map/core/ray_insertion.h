@@ -65,10 +65,10 @@ inline void walkWindowCells(const Eigen::Vector2d& start, const Eigen::Vector2d&
                             bool include_end, Visit&& visit) {
   const double fx = start.x() * inverse_resolution, fy = start.y() * inverse_resolution;
   const double ex = end.x() * inverse_resolution, ey = end.y() * inverse_resolution;
-  int cx = static_cast<int>(std::floor(fx)), cy = static_cast<int>(std::floor(fy));
+  int cx = floorToInt(fx), cy = floorToInt(fy);
   const double dx = ex - fx, dy = ey - fy;
-  int remaining_x = std::abs(static_cast<int>(std::floor(ex)) - cx);
-  int remaining_y = std::abs(static_cast<int>(std::floor(ey)) - cy);
+  int remaining_x = std::abs(floorToInt(ex) - cx);
+  int remaining_y = std::abs(floorToInt(ey) - cy);
   const int step_x = dx > 0 ? 1 : -1, step_y = dy > 0 ? 1 : -1;
   const double inf = std::numeric_limits<double>::infinity();
   double t_max_x = dx == 0.0 ? inf : ((step_x > 0 ? cx + 1.0 : cx) - fx) / dx;
@@ -153,9 +153,8 @@ void DeduplicatingRayInserter::insert(const RollingWindow& window, double invers
     for (uint32_t k = begin; k < end; ++k) {
       const Ray& ray = rays[order[k]];
       if (!ray.hit) continue;
-      const int slot = window.storageIndex(
-          CellIndex(static_cast<int>(std::floor(ray.end.x() * inverse_resolution)),
-                    static_cast<int>(std::floor(ray.end.y() * inverse_resolution))));
+      const int slot = window.storageIndex(CellIndex(floorToInt(ray.end.x() * inverse_resolution),
+                                                     floorToInt(ray.end.y() * inverse_resolution)));
       if (stamps[slot] == stamp) continue;
       stamps[slot] = stamp;
       writer.hit(slot);

@@ -21,9 +21,8 @@ class GridRayTraversal {
                    double inverse_resolution) {
     const Eigen::Vector2d from = start * inverse_resolution;
     const Eigen::Vector2d to = end * inverse_resolution;
-    cell_ = {static_cast<int>(std::floor(from.x())), static_cast<int>(std::floor(from.y()))};
-    const CellIndex last(static_cast<int>(std::floor(to.x())),
-                         static_cast<int>(std::floor(to.y())));
+    cell_ = {floorToInt(from.x()), floorToInt(from.y())};
+    const CellIndex last(floorToInt(to.x()), floorToInt(to.y()));
     const Eigen::Vector2d delta = to - from;
     for (int axis = 0; axis < 2; ++axis) {
       step_[axis] = delta[axis] > 0 ? 1 : -1;
