@@ -33,7 +33,7 @@ class ClearanceMap {
   }
 
   int at(const CellIndex& cell) const {
-    // Unsigned offsets: one compare per axis tests both sides of the box, and divide as shifts.
+    // Unsigned offsets: one compare per axis tests both sides of the box, and divisions shift.
     const unsigned dx = static_cast<unsigned>(cell.x() - box_.min.x());
     const unsigned dy = static_cast<unsigned>(cell.y() - box_.min.y());
     if (dx >= static_cast<unsigned>(box_.width()) || dy >= static_cast<unsigned>(box_.height())) {
