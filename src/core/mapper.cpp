@@ -505,14 +505,12 @@ void Mapper::clipToActiveRegion(std::vector<Ray>& rays) const {
 }
 
 double Mapper::passThroughDistance(const Ray& ray) const {
-  const double tolerance = options_.reflection_removal.penetration_tolerance;
-  PassThroughDetector detector(ray, field_.geometry(), tolerance);
+  PassThroughDetector detector(ray, field_.geometry(),
+                               options_.reflection_removal.penetration_tolerance);
   // Cells within the tolerance of the end never decide: walk only up to there.
-  const Eigen::Vector2d delta = ray.end - ray.origin;
-  const double length = delta.norm();
-  if (length <= tolerance) return -1.0;
-  const double stop = length - tolerance;
-  const Eigen::Vector2d direction = delta / length;
+  const double stop = detector.lastCandidate();
+  if (stop <= 0.0) return -1.0;
+  const Eigen::Vector2d& direction = detector.direction();
   const Eigen::Vector2d last = ray.origin + direction * stop;
   const GridGeometry& geometry = field_.geometry();
   const double resolution = geometry.resolution();

@@ -58,6 +58,10 @@ class PassThroughDetector {
   }
 
   bool blocked() const { return blocked_at_ >= 0.0; }
+  // The ray's unit direction, and the distance along it beyond which no cell decides (the
+  // penetration tolerance before its end): where a walk feeding visit() may stop.
+  const Eigen::Vector2d& direction() const { return direction_; }
+  double lastCandidate() const { return last_candidate_; }
 
   // Distance (m, along the ray) of the blocking cell passed through, or negative. Complete once
   // the walk reached the ray's end or visit() returned false.
