@@ -38,36 +38,52 @@ void reportRays(benchmark::State& state) {
   state.counters["mean_ray_cells"] = static_cast<double>(cells) / rays;
 }
 
+// Sweeps a scan's rays theta bin by theta bin as the RFM's insertion does (clipped to the
+// window, bucketed by bin, one visitCellsOfRays per bin), but through `visit` instead of the
+// field's writers. Returns the visitor.
+struct SweepScratch {
+  std::vector<Ray> clipped;
+  std::vector<uint32_t> order, group_begin;
+};
+template <typename Visit>
+Visit sweepScan(ReflectanceField& field, const benchmarking::BenchmarkScan& s,
+                SweepScratch& scratch, Visit visit) {
+  auto& [clipped, order, group_begin] = scratch;
+  field.recenter(s.scan.robot_pose.position);
+  clipped.clear();
+  for (Ray ray : s.rays) {
+    if (clipRayToBox(field.activeBox(), field.geometry().resolution(), ray)) {
+      clipped.push_back(ray);
+    }
+  }
+  bucketRaysByBin(clipped, field.geometry(), order, group_begin);
+  for (size_t bin = 0; bin + 1 < group_begin.size(); ++bin) {
+    visit = visitCellsOfRays(clipped, order.data() + group_begin[bin],
+                             group_begin[bin + 1] - group_begin[bin],
+                             field.geometry().inverseResolution(), field.window(), visit);
+  }
+  return visit;
+}
+
+// Counts the sweep's cell visits, with and without de-duplication marks.
+struct VisitCounter {
+  size_t marked = 0;
+  size_t unmarked = 0;
+  void operator()(int) { ++marked; }
+  void once(int) { ++unmarked; }
+};
+
 // Share of a scan's RFM cell visits that the sweep makes without de-duplication marks (a theta
 // bin's single fan, in the columns where all its rays are under way; visitCellsOfRays).
 double unmarkedVisitShare() {
-  struct Counter {
-    size_t* marked;
-    size_t* unmarked;
-    void operator()(int) { ++*marked; }
-    void once(int) { ++*unmarked; }
-  };
   const MapperOptions options;
   ReflectanceField field(options.grid, options.log_odds, options.active_region);
-  size_t marked = 0, unmarked = 0;
-  std::vector<Ray> clipped;
-  std::vector<uint32_t> order, group_begin;
-  for (const auto& s : scans()) {
-    field.recenter(s.scan.robot_pose.position);
-    clipped.clear();
-    for (Ray ray : s.rays) {
-      if (clipRayToBox(field.activeBox(), field.geometry().resolution(), ray)) {
-        clipped.push_back(ray);
-      }
-    }
-    bucketRaysByBin(clipped, field.geometry(), order, group_begin);
-    for (size_t bin = 0; bin + 1 < group_begin.size(); ++bin) {
-      visitCellsOfRays(
-          clipped, order.data() + group_begin[bin], group_begin[bin + 1] - group_begin[bin],
-          field.geometry().inverseResolution(), field.window(), Counter{&marked, &unmarked});
-    }
-  }
-  return static_cast<double>(unmarked) / std::max<size_t>(marked + unmarked, 1);
+  SweepScratch scratch;
+  VisitCounter counter;
+  for (const auto& s : scans())
+    counter = sweepScan(field, s, scratch, counter);
+  return static_cast<double>(counter.unmarked) /
+         std::max<size_t>(counter.marked + counter.unmarked, 1);
 }
 
 // Argument: insertion threads (the default options use 2; 1 shows the single-thread cost).
@@ -91,6 +107,24 @@ void BM_RfmInsert(benchmark::State& state) {
   state.counters["unmarked_visit_share"] = unmarked_share;
 }
 BENCHMARK(BM_RfmInsert)->Arg(2)->Arg(1)->Unit(benchmark::kMillisecond);
+
+// The sweep alone, on one thread: RfmInsert/1's work without the field's updates (no reads or
+// writes of bins, no hits, no summaries). Set beside RfmInsert/1, it shows what share of an
+// insertion walking the cells costs.
+void BM_RfmSweepOnly(benchmark::State& state) {
+  const MapperOptions options;
+  ReflectanceField field(options.grid, options.log_odds, options.active_region);
+  size_t i = 0;
+  SweepScratch scratch;
+  VisitCounter counter;
+  for (auto _ : state) {
+    counter = sweepScan(field, scans()[i++ % scans().size()], scratch, counter);
+    benchmark::DoNotOptimize(counter);
+  }
+  state.counters["visits_per_scan"] =
+      static_cast<double>(counter.marked + counter.unmarked) / std::max<size_t>(i, 1);
+}
+BENCHMARK(BM_RfmSweepOnly)->Unit(benchmark::kMillisecond);
 
 void BM_PlainGridInsert(benchmark::State& state) {
   const MapperOptions options;
