@@ -1,8 +1,13 @@
 #include "reflectance_field_map/core/clearance_map.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace rfm {
+
+ClearanceMap::ClearanceMap(int block_shift) : shift_(block_shift) {
+  if (block_shift < 0 || block_shift > 4) throw std::invalid_argument("block_shift not in [0, 4]");
+}
 
 void ClearanceMap::transform() {
   const int h = static_cast<int>(blocks_.size()) / std::max(blocks_x_, 1);

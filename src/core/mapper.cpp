@@ -63,6 +63,7 @@ struct Mapper::Impl {
         inserter(runner),
         classes(static_cast<size_t>(field.window().sizeCells()) * field.window().sizeCells(),
                 CellClass::kUnknown),
+        clearance(options.reflection_removal.clearance_block_shift),
         completion(field.geometry(), options.reflection_removal.reflection_removal_enabled
                                          ? options.reflection_removal.glass_completion_max_gap
                                          : 0.0) {

@@ -76,6 +76,7 @@ void ReflectionRemovalOptions::validate() const {
   requireRange("max_reflection_iterations", max_reflection_iterations, 1, 100);
   requireRange("glass_completion_max_gap", glass_completion_max_gap, 0.0, 20.0);
   requireRange("scan_buffer_size", scan_buffer_size, 0, 100000);
+  requireRange("clearance_block_shift", clearance_block_shift, 0, 4);
 }
 
 void MapperOptions::validate() const {

@@ -83,6 +83,25 @@ TEST(MapperOptions, BadWindowRadiusIsRejected) {
   EXPECT_DOUBLE_EQ(options.active_region.windowRadius(), 10.0);
 }
 
+// So is clearance_block_shift (single cells in the batch, blocks of 4 online).
+TEST(MapperOptions, BadClearanceBlockShiftIsRejected) {
+  for (int value : {-1, 5}) {
+    MapperOptions options;
+    options.reflection_removal.clearance_block_shift = value;
+    try {
+      options.validate();
+      ADD_FAILURE() << "clearance_block_shift = " << value << " was accepted";
+    } catch (const InvalidOption& error) {
+      EXPECT_EQ(error.field(), "clearance_block_shift");
+    }
+  }
+  for (int value : {0, 4}) {
+    MapperOptions options;
+    options.reflection_removal.clearance_block_shift = value;
+    EXPECT_NO_THROW(options.validate());
+  }
+}
+
 TEST(MapperOptions, DefaultsAreValidAndMatchThePaper) {
   const MapperOptions options;
   EXPECT_NO_THROW(options.validate());

@@ -8,25 +8,28 @@
 namespace rfm {
 
 // How far from any cell of a box the nearest non-empty cell is, as a lower bound kept per block
-// of kBlock x kBlock cells: at(cell) = d means every cell within Chebyshev distance d - 1 of
-// `cell` is empty (0 on or next to non-empty cells). A walk along a ray may leap d - 1 cells
-// from any point of a cell with clearance d without passing a non-empty cell. Blocks make the
-// map cheap to rebuild whenever the classes change; cells outside the box have clearance 0.
+// of blockCells() x blockCells() cells: at(cell) = d means every cell within Chebyshev distance
+// d - 1 of `cell` is empty (0 on or next to non-empty cells). A walk along a ray may leap d - 1
+// cells from any point of a cell with clearance d without passing a non-empty cell. Larger
+// blocks make the map cheaper to rebuild whenever the classes change; smaller ones let walks
+// leap closer to non-empty cells. Cells outside the box have clearance 0.
 class ClearanceMap {
  public:
-  static constexpr int kBlock = 4;
+  // Blocks of 2^block_shift cells a side, block_shift in [0, 4].
+  explicit ClearanceMap(int block_shift = 2);
+  int blockCells() const { return 1 << shift_; }
 
   // is_empty(dx, dy): whether cell box.min + (dx, dy) is empty.
   template <typename IsEmpty>
   void compute(const CellBox& box, IsEmpty&& is_empty) {
     box_ = box;
-    blocks_x_ = (box.width() + kBlock - 1) / kBlock;
-    const int blocks_y = (box.height() + kBlock - 1) / kBlock;
+    blocks_x_ = (box.width() + blockCells() - 1) >> shift_;
+    const int blocks_y = (box.height() + blockCells() - 1) >> shift_;
     blocks_.assign(static_cast<size_t>(blocks_x_) * blocks_y, kFar);
     for (int dy = 0; dy < box.height(); ++dy) {
-      uint8_t* block_row = &blocks_[static_cast<size_t>(dy / kBlock) * blocks_x_];
+      uint8_t* block_row = &blocks_[static_cast<size_t>(dy >> shift_) * blocks_x_];
       for (int dx = 0; dx < box.width(); ++dx) {
-        if (!is_empty(dx, dy)) block_row[dx / kBlock] = 0;
+        if (!is_empty(dx, dy)) block_row[dx >> shift_] = 0;
       }
     }
     transform();
@@ -39,9 +42,9 @@ class ClearanceMap {
     if (dx >= static_cast<unsigned>(box_.width()) || dy >= static_cast<unsigned>(box_.height())) {
       return 0;
     }
-    const int blocks = blocks_[static_cast<size_t>(dy / kBlock) * blocks_x_ + dx / kBlock];
-    // All blocks within blocks - 1 are empty: so is every cell within kBlock * (blocks - 1).
-    return blocks == 0 ? 0 : kBlock * (blocks - 1) + 1;
+    const int blocks = blocks_[static_cast<size_t>(dy >> shift_) * blocks_x_ + (dx >> shift_)];
+    // All blocks within blocks - 1 are empty: so is every cell within blockCells() * (blocks - 1).
+    return blocks == 0 ? 0 : ((blocks - 1) << shift_) + 1;
   }
 
   const CellBox& box() const { return box_; }
@@ -55,6 +58,7 @@ class ClearanceMap {
   // Block distances from the seeds (0 on blocks holding a non-empty cell, kFar elsewhere).
   void transform();
 
+  int shift_;
   CellBox box_;
   int blocks_x_ = 0;
   std::vector<uint8_t> blocks_;  // per block: Chebyshev distance in blocks to a non-empty one
