@@ -2,11 +2,14 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <string>
 
 namespace rfm {
 
 ClearanceMap::ClearanceMap(int block_shift) : shift_(block_shift) {
-  if (block_shift < 0 || block_shift > 4) throw std::invalid_argument("block_shift not in [0, 4]");
+  if (block_shift < 0 || block_shift > kMaxBlockShift) {
+    throw std::invalid_argument("block_shift not in [0, " + std::to_string(kMaxBlockShift) + "]");
+  }
 }
 
 void ClearanceMap::transform() {

@@ -1,5 +1,6 @@
 #include "reflectance_field_map/core/options.h"
 
+#include "reflectance_field_map/core/clearance_map.h"
 #include "reflectance_field_map/core/grid_geometry.h"
 #include "reflectance_field_map/core/log_odds.h"
 
@@ -76,7 +77,7 @@ void ReflectionRemovalOptions::validate() const {
   requireRange("max_reflection_iterations", max_reflection_iterations, 1, 100);
   requireRange("glass_completion_max_gap", glass_completion_max_gap, 0.0, 20.0);
   requireRange("scan_buffer_size", scan_buffer_size, 0, 100000);
-  requireRange("clearance_block_shift", clearance_block_shift, 0, 4);
+  requireRange("clearance_block_shift", clearance_block_shift, 0, ClearanceMap::kMaxBlockShift);
 }
 
 void MapperOptions::validate() const {

@@ -15,7 +15,8 @@ namespace rfm {
 // leap closer to non-empty cells. Cells outside the box have clearance 0.
 class ClearanceMap {
  public:
-  // Blocks of 2^block_shift cells a side, block_shift in [0, 4].
+  static constexpr int kMaxBlockShift = 4;
+  // Blocks of 2^block_shift cells a side, block_shift in [0, kMaxBlockShift].
   explicit ClearanceMap(int block_shift = 2);
   int blockCells() const { return 1 << shift_; }
 

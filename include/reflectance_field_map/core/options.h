@@ -114,9 +114,9 @@ struct ReflectionRemovalOptions {
   double glass_completion_max_gap = 2.0;  // m
   int scan_buffer_size = 400;             // online ring buffer of recent scans (per mapper)
   // The glass check leaps over cells that cannot block a ray by a clearance map kept in blocks
-  // of 2^clearance_block_shift cells a side (ClearanceMap), in [0, 4]. Not a parameter: blocks
-  // of 4 cells keep its rebuild at each online motion removal cheap; the batch rebuilds it once
-  // per pass and uses single cells, so rays leap closer to structure.
+  // of 2^clearance_block_shift cells a side (ClearanceMap, at most kMaxBlockShift). Not a
+  // parameter: blocks of 4 cells keep its rebuild at each online motion removal cheap; the batch
+  // rebuilds it once per pass and uses single cells, so rays leap closer to structure.
   int clearance_block_shift = 2;
   void validate() const;
 };
