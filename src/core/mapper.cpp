@@ -15,6 +15,7 @@
 #include <deque>
 #include <istream>
 #include <limits>
+#include <optional>
 #include <ostream>
 
 namespace rfm {
@@ -214,8 +215,16 @@ size_t Mapper::cutAtGlass(std::vector<Ray>& rays, ScanUpdate& update,
                           ParallelRunner* runner) const {
   if (!checksGlass()) return 0;
   // Read-only on the field and the classes: the rays split between threads freely.
-  parallelFor(runner, rays.size(), 64, [&](size_t i, int) {
-    if (truncateAtGlass(rays[i])) update.labels[rays[i].beam] = RayLabel::kReflection;
+  constexpr size_t kChunk = 64;
+  parallelFor(runner, (rays.size() + kChunk - 1) / kChunk, 1, [&](size_t chunk, int) {
+    const size_t first = chunk * kChunk, count = std::min(kChunk, rays.size() - first);
+    double distances[kChunk];
+    passThroughDistances(&rays[first], count, distances);
+    for (size_t i = first; i < first + count; ++i) {
+      if (cutAtDistance(distances[i - first], rays[i])) {
+        update.labels[rays[i].beam] = RayLabel::kReflection;
+      }
+    }
   });
   return std::count(update.labels.begin(), update.labels.end(), RayLabel::kReflection);
 }
@@ -469,12 +478,25 @@ std::vector<RayLabel> Mapper::labelScan(const TimedScan& scan, bool final_map) c
   auto class_of = [this](const CellIndex& cell) { return cellClass(cell); };
   const bool check_reflections =
       options_.reflection_removal.reflection_removal_enabled && impl_->blocking_cells > 0;
-  const CellBox box = field_.activeBox();
+  // The reflection check of every hit ray first, side by side (passThroughDistances).
+  std::vector<Ray> checked;
+  std::vector<double> through;
+  if (check_reflections) {
+    const CellBox box = field_.activeBox();
+    for (const Ray& ray : rays) {
+      Ray inside = ray;
+      if (ray.hit && clipRayToBox(box, field_.geometry().resolution(), inside)) {
+        checked.push_back(inside);
+      }
+    }
+    through.resize(checked.size());
+    passThroughDistances(checked.data(), checked.size(), through.data());
+  }
+  size_t next_checked = 0;
   for (const Ray& ray : rays) {
     if (!ray.hit) continue;  // no return: nothing to keep or remove
-    Ray inside = ray;
-    if (check_reflections && clipRayToBox(box, field_.geometry().resolution(), inside) &&
-        passThroughDistance(inside) >= 0.0) {
+    if (next_checked < checked.size() && checked[next_checked].beam == ray.beam &&
+        through[next_checked++] >= 0.0) {
       labels[ray.beam] = RayLabel::kReflection;
       continue;
     }
@@ -506,12 +528,55 @@ void Mapper::clipToActiveRegion(std::vector<Ray>& rays) const {
 }
 
 double Mapper::passThroughDistance(const Ray& ray) const {
-  PassThroughDetector detector(ray, field_.geometry(),
-                               options_.reflection_removal.penetration_tolerance);
-  // Cells within the tolerance of the end never decide: walk only up to there.
-  const double stop = detector.lastCandidate();
-  if (stop <= 0.0) return -1.0;
+  double distance = -1.0;
+  passThroughDistances(&ray, 1, &distance);
+  return distance;
+}
+
+void Mapper::passThroughDistances(const Ray* rays, size_t count, double* distances) const {
+  const GridGeometry& geometry = field_.geometry();
+  const double resolution = geometry.resolution();
+  const double tolerance = options_.reflection_removal.penetration_tolerance;
+  const ClearanceMap& clearance = impl_->clearance;
+  // Most of a check is its first leaps over empty cells, and each leap waits for the clearance
+  // lookup of the one before: several rays leap side by side, so their lookups overlap. Each
+  // then goes on alone from where its leaps stopped, exactly as it would have on its own.
+  constexpr int kSideBySide = 8;
+  std::optional<PassThroughDetector> detectors[kSideBySide];
+  double from[kSideBySide];  // m along each ray where its walk starts
+  int leaping[kSideBySide];
+  for (size_t first = 0; first < count; first += kSideBySide) {
+    const int n = static_cast<int>(std::min<size_t>(kSideBySide, count - first));
+    int active = 0;
+    for (int i = 0; i < n; ++i) {
+      const PassThroughDetector& detector =
+          detectors[i].emplace(rays[first + i], geometry, tolerance);
+      from[i] = 0.0;
+      // Cells within the tolerance of the end never decide: walks stop there.
+      if (detector.lastCandidate() > 0.0) leaping[active++] = i;
+    }
+    while (active > 0) {
+      int still_leaping = 0;
+      for (int a = 0; a < active; ++a) {
+        const int i = leaping[a];
+        const PassThroughDetector& detector = *detectors[i];
+        const Eigen::Vector2d at = rays[first + i].origin + detector.direction() * from[i];
+        const int clear = clearance.at(geometry.cellOf(at));
+        if (clear < 2) continue;  // next to structure: the walk takes over
+        // No cell within clear - 1 of the current one blocks: nor does the ray's stretch.
+        from[i] += (clear - 1) * resolution;
+        if (from[i] < detector.lastCandidate()) leaping[still_leaping++] = i;
+      }
+      active = still_leaping;
+    }
+    for (int i = 0; i < n; ++i)
+      distances[first + i] = walkTowardsGlass(rays[first + i], *detectors[i], from[i]);
+  }
+}
+
+double Mapper::walkTowardsGlass(const Ray& ray, PassThroughDetector& detector, double from) const {
   const Eigen::Vector2d& direction = detector.direction();
+  const double stop = detector.lastCandidate();
   const Eigen::Vector2d last = ray.origin + direction * stop;
   const GridGeometry& geometry = field_.geometry();
   const double resolution = geometry.resolution();
@@ -523,7 +588,6 @@ double Mapper::passThroughDistance(const Ray& ray) const {
   // is inside a blocking cell, so the walk leaps over them by the clearance and steps cell by
   // cell only near glass, metal and static structure. People's trails leave motion cells all
   // over an open space: leaping over those too is what keeps the check cheap there.
-  double from = 0.0;  // m along the ray where the next walk starts
   while (from < stop) {
     if (!detector.blocked()) {
       const int clear = clearance.at(geometry.cellOf(ray.origin + direction * from));
@@ -568,7 +632,10 @@ double Mapper::passThroughDistance(const Ray& ray) const {
 }
 
 bool Mapper::truncateAtGlass(Ray& ray) const {
-  const double along = passThroughDistance(ray);
+  return cutAtDistance(passThroughDistance(ray), ray);
+}
+
+bool Mapper::cutAtDistance(double along, Ray& ray) const {
   if (along < 0.0) return false;
   // Evidence beyond the surface is discarded (Alg. 3): misses up to it, no hit. Even the misses
   // beyond glass are dropped: a mirror looks like glass in the field, and beyond a mirror the

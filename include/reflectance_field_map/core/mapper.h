@@ -17,6 +17,8 @@
 
 namespace rfm {
 
+class PassThroughDetector;
+
 // One scan with the poses it was taken from, in the fixed frame (REP-105: odom or map).
 struct TimedScan {
   uint32_t sensor_id = 0;  // index of the scan's source (topic)
@@ -143,10 +145,17 @@ class Mapper {
   // Limits rays to the active-region radius around their sensor and to the window (the walks
   // below need rays inside it); a ray cut short loses its hit.
   void clipToActiveRegion(std::vector<Ray>& rays) const;
-  // Alg. 3 check of a ray inside the window against the current classes (PassThroughDetector).
+  // Alg. 3 check of a ray inside the window against the current classes (PassThroughDetector):
+  // the distance along it of the blocking cell it passes through, or negative.
   double passThroughDistance(const Ray& ray) const;
+  // The check of `count` rays, written to distances[0, count).
+  void passThroughDistances(const Ray* rays, size_t count, double* distances) const;
+  // The check of one ray from `from` m along it on, leaping where the clearance allows.
+  double walkTowardsGlass(const Ray& ray, PassThroughDetector& detector, double from) const;
   // Cuts a ray that passes through glass just past it (false if it passes none).
   bool truncateAtGlass(Ray& ray) const;
+  // Cuts a ray `along` m from its origin, where the check found glass (false if negative).
+  bool cutAtDistance(double along, Ray& ray) const;
 
   MapperOptions options_;
   ReflectanceField field_;
