@@ -46,6 +46,13 @@ AnchorRules anchorRules(const MapperOptions& options, const GridGeometry& geomet
   return rules;
 }
 
+// Metres along a ray (unit `direction`) per cell along its major axis. No cell within Chebyshev
+// distance c of a cell blocks: then neither does the ray's stretch of c of these from any point
+// of that cell, which on a diagonal is 1.41 cells long.
+double leapPerCell(const Eigen::Vector2d& direction, double resolution) {
+  return resolution / direction.cwiseAbs().maxCoeff();
+}
+
 }  // namespace
 
 // A scan as inserted, kept for online re-processing when new glass appears.
@@ -543,7 +550,8 @@ void Mapper::passThroughDistances(const Ray* rays, size_t count, double* distanc
   // then goes on alone from where its leaps stopped, exactly as it would have on its own.
   constexpr int kSideBySide = 8;
   std::optional<PassThroughDetector> detectors[kSideBySide];
-  double from[kSideBySide];  // m along each ray where its walk starts
+  double from[kSideBySide];       // m along each ray where its walk starts
+  double leap_unit[kSideBySide];  // m per leap of one cell
   int leaping[kSideBySide];
   for (size_t first = 0; first < count; first += kSideBySide) {
     const int n = static_cast<int>(std::min<size_t>(kSideBySide, count - first));
@@ -552,6 +560,7 @@ void Mapper::passThroughDistances(const Ray* rays, size_t count, double* distanc
       const PassThroughDetector& detector =
           detectors[i].emplace(rays[first + i], geometry, tolerance);
       from[i] = 0.0;
+      leap_unit[i] = leapPerCell(detector.direction(), resolution);
       // Cells within the tolerance of the end never decide: walks stop there.
       if (detector.lastCandidate() > 0.0) leaping[active++] = i;
     }
@@ -563,8 +572,7 @@ void Mapper::passThroughDistances(const Ray* rays, size_t count, double* distanc
         const Eigen::Vector2d at = rays[first + i].origin + detector.direction() * from[i];
         const int clear = clearance.at(geometry.cellOf(at));
         if (clear < 2) continue;  // next to structure: the walk takes over
-        // No cell within clear - 1 of the current one blocks: nor does the ray's stretch.
-        from[i] += (clear - 1) * resolution;
+        from[i] += (clear - 1) * leap_unit[i];
         if (from[i] < detector.lastCandidate()) leaping[still_leaping++] = i;
       }
       active = still_leaping;
@@ -583,6 +591,7 @@ double Mapper::walkTowardsGlass(const Ray& ray, PassThroughDetector& detector, d
   const int bins = geometry.thetaBins();
   const ClearanceMap& clearance = impl_->clearance;
   const FrozenReflectivity& frozen = impl_->frozen;
+  const double leap_unit = leapPerCell(direction, resolution);
   auto class_of = [this](const CellIndex& cell) { return cellClass(cell); };
   // Cells that cannot block (free, unknown, motion, unclassified) change nothing until the ray
   // is inside a blocking cell, so the walk leaps over them by the clearance and steps cell by
@@ -593,7 +602,7 @@ double Mapper::walkTowardsGlass(const Ray& ray, PassThroughDetector& detector, d
       const int clear = clearance.at(geometry.cellOf(ray.origin + direction * from));
       if (clear >= 2) {
         // No cell within clear - 1 of the current one blocks: nor does the ray's stretch.
-        from += (clear - 1) * resolution;
+        from += (clear - 1) * leap_unit;
         continue;
       }
     }
