@@ -266,7 +266,8 @@ bool Mapper::tickDue(double stamp) const {
 
 void Mapper::tickPersistenceIfDue(double stamp) {
   if (tickDue(stamp)) {
-    field_.tickPersistence(impl_->remembered_min_bins, impl_->confirmed_min_ticks);
+    field_.tickPersistence(impl_->remembered_min_bins, impl_->confirmed_min_ticks,
+                           impl_->runner.get());
     impl_->last_tick_stamp = stamp;
   } else if (impl_->stats.scans_processed == 0 || stamp < impl_->last_tick_stamp) {
     impl_->last_tick_stamp = stamp;  // first scan, or time went back

@@ -290,14 +290,31 @@ void ReflectanceField::rebuildCellSummary(int storage_index) {
   ++tile_versions_[tile];
 }
 
-void ReflectanceField::tickPersistence(int remembered_min_bins, int confirmed_min_ticks) {
+void ReflectanceField::tickPersistence(int remembered_min_bins, int confirmed_min_ticks,
+                                       ParallelRunner* runner) {
+  // On the runner's threads: they split the histories by hash bucket and the cells by tile, and
+  // each updates only what it was given. Histories to drop or create change the maps, so the
+  // threads collect those and the caller makes them after each step.
+  const int threads = runner ? runner->threads() : 1;
+  // Per thread: slots of histories to drop, of cells to get a history, of cells to become certain.
+  std::vector<std::vector<int>> dropped(threads), remembered(threads), certain(threads);
+  auto for_each_history = [&](auto& histories, auto&& update) {
+    constexpr size_t kBucketsPerPart = 256;
+    const size_t buckets = histories.bucket_count();
+    parallelFor(runner, (buckets + kBucketsPerPart - 1) / kBucketsPerPart, 1,
+                [&](size_t part, int thread) {
+                  const size_t end = std::min(buckets, (part + 1) * kBucketsPerPart);
+                  for (size_t b = part * kBucketsPerPart; b < end; ++b) {
+                    for (auto it = histories.begin(b); it != histories.end(b); ++it)
+                      update(it->first, it->second, thread);
+                  }
+                });
+  };
   // Abandonment first, like vacancy: it compares with the last tick and reads the hits since.
-  for (auto it = confirmed_history_.begin(); it != confirmed_history_.end();) {
-    const int slot = it->first;
-    ConfirmedHistory& history = it->second;
+  for_each_history(confirmed_history_, [&](int slot, ConfirmedHistory& history, int thread) {
     if (!reflective_bins_[slot]) {
-      it = confirmed_history_.erase(it);  // no longer confirmed
-      continue;
+      dropped[thread].push_back(slot);  // no longer confirmed
+      return;
     }
     bool lost_certainty = false;
     forEachMaskBit(history.certain.data(), mask_words_, [&](int bin) {
@@ -310,57 +327,88 @@ void ReflectanceField::tickPersistence(int remembered_min_bins, int confirmed_mi
     } else if (lost_certainty && history.abandoned_ticks < 255) {
       ++history.abandoned_ticks;
     }
-    ++it;
+  });
+  for (const std::vector<int>& part : dropped) {
+    for (int slot : part)
+      confirmed_history_.erase(slot);
   }
   // Vacancy first: it reads the hits since the last tick, which the loop below clears.
-  for (auto& [slot, history] : reflective_history_) {
+  for_each_history(reflective_history_, [&](int slot, CellHistory& history, int) {
     if (hit_since_tick_[slot]) {
       history.vacant_ticks = 0;
     } else if (missed_bins_[slot] > history.missed_at_tick && history.vacant_ticks < 255) {
       ++history.vacant_ticks;
     }
     history.missed_at_tick = missed_bins_[slot];
-  }
+  });
   // Tile by tile: storage tiles are contiguous blocks of slots.
   const size_t tile_slots = size_t{1} << window_.tileSlotShift();
-  for (size_t first = 0; first < plane_; first += tile_slots) {
-    if (remembered_min_bins > 0 && tile_reflective_cells_[first >> window_.tileSlotShift()] == 0) {
-      // No cell of this tile is reflective: none is remembered or confirmed, so all that is
-      // left to do is what the loop below does to unreflective cells.
-      std::fill_n(&confirmed_ticks_[first], tile_slots, uint8_t{0});
-      std::fill_n(&hit_since_tick_[first], tile_slots, uint8_t{0});
-      continue;
+  constexpr size_t kTilesPerPart = 16;
+  const size_t tiles = plane_ / tile_slots;
+  parallelFor(runner, (tiles + kTilesPerPart - 1) / kTilesPerPart, 1, [&](size_t part, int thread) {
+    const size_t end = std::min(plane_, (part + 1) * kTilesPerPart * tile_slots);
+    for (size_t first = part * kTilesPerPart * tile_slots; first < end; first += tile_slots) {
+      if (remembered_min_bins > 0 &&
+          tile_reflective_cells_[first >> window_.tileSlotShift()] == 0) {
+        // No cell of this tile is reflective: none is remembered or confirmed, so all that is
+        // left to do is what the loop below does to unreflective cells.
+        std::fill_n(&confirmed_ticks_[first], tile_slots, uint8_t{0});
+        std::fill_n(&hit_since_tick_[first], tile_slots, uint8_t{0});
+        continue;
+      }
+      for (size_t index = first; index < first + tile_slots; ++index) {
+        if (reflective_bins_[index] >= remembered_min_bins) {
+          const auto it = reflective_history_.find(static_cast<int>(index));
+          if (it != reflective_history_.end()) {
+            addReflectiveBins(index, it->second);
+          } else {
+            remembered[thread].push_back(static_cast<int>(index));
+          }
+        }
+        uint8_t& ticks = confirmed_ticks_[index];
+        if (!reflective_bins_[index]) {
+          ticks = 0;
+        } else if (hit_since_tick_[index] && ticks < 255) {
+          ++ticks;  // not hit (occluded, out of view): held, neither confirmed nor reset
+        }
+        // Only hits make a bin certain.
+        if (confirmed_min_ticks > 0 && ticks >= confirmed_min_ticks && hit_since_tick_[index]) {
+          const auto it = confirmed_history_.find(static_cast<int>(index));
+          if (it != confirmed_history_.end()) {
+            addCertainBins(index, it->second);
+          } else {
+            certain[thread].push_back(static_cast<int>(index));
+          }
+        }
+        hit_since_tick_[index] = 0;
+      }
     }
-    for (size_t index = first; index < first + tile_slots; ++index) {
-      if (reflective_bins_[index] >= remembered_min_bins) {
-        CellHistory& history = reflective_history_[static_cast<int>(index)];
-        if (history.bins.empty()) history.missed_at_tick = missed_bins_[index];
-        history.bins.resize(mask_words_, 0);
-        const uint64_t* mask = &reflective_masks_[index * mask_words_];
-        for (int w = 0; w < mask_words_; ++w)
-          history.bins[w] |= mask[w];
-      }
-      uint8_t& ticks = confirmed_ticks_[index];
-      if (!reflective_bins_[index]) {
-        ticks = 0;
-      } else if (hit_since_tick_[index] && ticks < 255) {
-        ++ticks;  // not hit (occluded, out of view): held, neither confirmed nor reset
-      }
-      // Only hits make a bin certain.
-      if (confirmed_min_ticks > 0 && ticks >= confirmed_min_ticks && hit_since_tick_[index]) {
-        rememberCertainty(index);
-      }
-      hit_since_tick_[index] = 0;
+  });
+  for (const std::vector<int>& part : remembered) {
+    for (int slot : part) {
+      CellHistory& history = reflective_history_[slot];
+      history.missed_at_tick = missed_bins_[slot];
+      addReflectiveBins(slot, history);
+    }
+  }
+  for (const std::vector<int>& part : certain) {
+    for (int slot : part) {
+      ConfirmedHistory& history = confirmed_history_[slot];
+      history.certain.assign(mask_words_, 0);
+      history.at_tick.resize(theta_bins_);
+      addCertainBins(slot, history);
     }
   }
 }
 
-void ReflectanceField::rememberCertainty(size_t storage_index) {
-  ConfirmedHistory& history = confirmed_history_[static_cast<int>(storage_index)];
-  if (history.at_tick.empty()) {
-    history.certain.assign(mask_words_, 0);
-    history.at_tick.resize(theta_bins_);
-  }
+void ReflectanceField::addReflectiveBins(size_t storage_index, CellHistory& history) const {
+  history.bins.resize(mask_words_, 0);
+  const uint64_t* mask = &reflective_masks_[storage_index * mask_words_];
+  for (int w = 0; w < mask_words_; ++w)
+    history.bins[w] |= mask[w];
+}
+
+void ReflectanceField::addCertainBins(size_t storage_index, ConfirmedHistory& history) const {
   // Certain bins are reflective ones at the clamp.
   forEachMaskBit(&reflective_masks_[storage_index * mask_words_], mask_words_, [&](int bin) {
     const int8_t value = bins_[static_cast<size_t>(bin) * plane_ + storage_index];

@@ -170,6 +170,65 @@ TEST(ReflectanceField, AbandonmentCountsTicksMissedWhereACellWasCertainWithoutAH
   EXPECT_EQ(abandoned(person), 0);
 }
 
+// The tick splits its work between threads, which collect the histories to create and drop for
+// the caller: on two threads every cell must end with the histories of a tick on one thread.
+// Cells all over the window stand still for six ticks (remembered, confirmed, certain), then are
+// looked through until they reflect nowhere (abandoned, dropped, vacant), among random updates.
+TEST(ReflectanceField, TickOnThreadsKeepsTheHistoriesOfOneThread) {
+  GridOptions grid;
+  ReflectanceField alone = testing::centredField(6.0, grid);  // about 200 tiles
+  ReflectanceField shared = testing::centredField(6.0, grid);
+  ParallelRunner runner(2);
+  std::mt19937 rng(11);
+  const CellBox box = alone.activeBox();
+  std::uniform_int_distribution<int> x(box.min.x(), box.max.x() - 1),
+      y(box.min.y(), box.max.y() - 1);
+  std::uniform_int_distribution<int> bin(0, 179);
+  std::vector<std::pair<CellIndex, int>> standing;  // cell, first of its 5 reflective bins
+  for (int i = 0; i < 2000; ++i)
+    standing.emplace_back(CellIndex(x(rng), y(rng)), bin(rng));
+  auto update = [&](const CellIndex& cell, int b, bool hit) {
+    for (ReflectanceField* field : {&alone, &shared}) {
+      if (hit) {
+        field->applyHit(cell, b % 180);
+      } else {
+        field->applyMiss(cell, b % 180);
+      }
+    }
+  };
+  constexpr int kRemembered = 3, kConfirmed = 2;
+  size_t abandoned = 0, vacant = 0, dropped = 0;
+  for (int tick = 0; tick < 12; ++tick) {
+    for (const auto& [cell, first_bin] : standing) {
+      for (int b = first_bin; b < first_bin + 5; ++b) {
+        for (int repeat = 0; repeat < 4; ++repeat)
+          update(cell, b, /*hit=*/tick < 6);
+      }
+    }
+    for (int i = 0; i < 4000; ++i)
+      update(CellIndex(x(rng), y(rng)), bin(rng), /*hit=*/i % 3 == 0);
+    alone.tickPersistence(kRemembered, kConfirmed);
+    shared.tickPersistence(kRemembered, kConfirmed, &runner);
+    const int slots = alone.window().sizeCells() * alone.window().sizeCells();
+    for (int slot = 0; slot < slots; ++slot) {
+      ASSERT_EQ(shared.confirmedTicksAt(slot), alone.confirmedTicksAt(slot));
+      ASSERT_EQ(shared.vacantTicksAt(slot), alone.vacantTicksAt(slot));
+      ASSERT_EQ(shared.contradictedBinsAt(slot), alone.contradictedBinsAt(slot));
+      ASSERT_EQ(shared.abandonedTicksAt(slot), alone.abandonedTicksAt(slot));
+    }
+    // The histories were there to compare.
+    for (const auto& standing_cell : standing) {
+      const int slot = alone.window().storageIndex(standing_cell.first);
+      abandoned += tick == 7 && alone.abandonedTicksAt(slot) > 0;
+      dropped += tick == 8 && alone.abandonedTicksAt(slot) == 0;  // no reflective bin left
+      vacant += tick == 9 && alone.vacantTicksAt(slot) > 0;
+    }
+  }
+  EXPECT_GT(abandoned, 1000u);
+  EXPECT_GT(vacant, 1000u);
+  EXPECT_GT(dropped, 1000u);
+}
+
 // A departure: bins that reflected at a tick and are now confidently missed. Seen through only
 // in other directions (glass) or never (a wall) is no departure, and small cells keep no history.
 TEST(ReflectanceField, ContradictedBinsAreFormerlyReflectiveBinsNowSeenThrough) {

@@ -199,8 +199,9 @@ class ReflectanceField {
   // with archived tiles.
   // Cells confirmed for at least `confirmed_min_ticks` ticks (0: none) get a second history: the
   // bins in which they were certain (log-odds at the clamp), see abandonedTicksAt.
+  // With a runner, on its threads.
   void tickPersistence(int remembered_min_bins = std::numeric_limits<int>::max(),
-                       int confirmed_min_ticks = 0);
+                       int confirmed_min_ticks = 0, ParallelRunner* runner = nullptr);
   // Bins of the cell that were reflective at a persistence tick and are now missed with at least
   // half the clamp's confidence: something that was seen there is gone (a person who stood
   // still, then left). 0 for cells without history. Static structure, opaque, is not seen through
@@ -269,8 +270,6 @@ class ReflectanceField {
   // Recomputes the summaries of a tile just restored into storage (cleared before).
   void rebuildSummaries(const TileIndex& tile);
   void rebuildCellSummary(int storage_index);
-  // Adds the bins the cell is certain in to its confirmed history (see abandonedTicksAt).
-  void rememberCertainty(size_t storage_index);
   void gatherTile(const TileIndex& tile, std::vector<int8_t>& bins) const;
   void scatterTile(const TileIndex& tile, const std::vector<int8_t>& bins);
 
@@ -313,6 +312,10 @@ class ReflectanceField {
     uint8_t abandoned_ticks = 0;
   };
   std::unordered_map<int, ConfirmedHistory> confirmed_history_;  // by storage index
+  // Adds the cell's reflective bins to its history (tickPersistence).
+  void addReflectiveBins(size_t storage_index, CellHistory& history) const;
+  // Adds the bins the cell is certain in to its confirmed history (see abandonedTicksAt).
+  void addCertainBins(size_t storage_index, ConfirmedHistory& history) const;
   TileArchive archive_;
 };
 
