@@ -578,12 +578,19 @@ void Mapper::passThroughDistances(const Ray* rays, size_t count, double* distanc
       }
       active = still_leaping;
     }
-    for (int i = 0; i < n; ++i)
-      distances[first + i] = walkTowardsGlass(rays[first + i], *detectors[i], from[i]);
+    for (int i = 0; i < n; ++i) {
+      PassThroughDetector& detector = *detectors[i];
+      // Leaped past the last candidate (or none to check): nothing blocks, no walk to set up.
+      distances[first + i] =
+          from[i] < detector.lastCandidate()
+              ? walkTowardsGlass(rays[first + i], detector, from[i], leap_unit[i])
+              : detector.distance();
+    }
   }
 }
 
-double Mapper::walkTowardsGlass(const Ray& ray, PassThroughDetector& detector, double from) const {
+double Mapper::walkTowardsGlass(const Ray& ray, PassThroughDetector& detector, double from,
+                                double leap_unit) const {
   const Eigen::Vector2d& direction = detector.direction();
   const double stop = detector.lastCandidate();
   const Eigen::Vector2d last = ray.origin + direction * stop;
@@ -592,7 +599,6 @@ double Mapper::walkTowardsGlass(const Ray& ray, PassThroughDetector& detector, d
   const int bins = geometry.thetaBins();
   const ClearanceMap& clearance = impl_->clearance;
   const FrozenReflectivity& frozen = impl_->frozen;
-  const double leap_unit = leapPerCell(direction, resolution);
   auto class_of = [this](const CellIndex& cell) { return cellClass(cell); };
   // Cells that cannot block (free, unknown, motion, unclassified) change nothing until the ray
   // is inside a blocking cell, so the walk leaps over them by the clearance and steps cell by

@@ -150,8 +150,10 @@ class Mapper {
   double passThroughDistance(const Ray& ray) const;
   // The check of `count` rays, written to distances[0, count).
   void passThroughDistances(const Ray* rays, size_t count, double* distances) const;
-  // The check of one ray from `from` m along it on, leaping where the clearance allows.
-  double walkTowardsGlass(const Ray& ray, PassThroughDetector& detector, double from) const;
+  // The check of one ray from `from` m along it on, leaping where the clearance allows by
+  // `leap_unit` m per cell of clearance (leapPerCell).
+  double walkTowardsGlass(const Ray& ray, PassThroughDetector& detector, double from,
+                          double leap_unit) const;
   // Cuts a ray that passes through glass just past it (false if it passes none).
   bool truncateAtGlass(Ray& ray) const;
   // Cuts a ray `along` m from its origin, where the check found glass (false if negative).
