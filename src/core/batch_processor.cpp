@@ -12,6 +12,7 @@
 #include <set>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 
 namespace rfm {
 namespace {
@@ -147,6 +148,15 @@ BatchResult processPlainGrid(const std::vector<TimedScan>& scans, MapperOptions 
 
 }  // namespace
 
+std::vector<TimedScan> everyNthScanOfEachSensor(const std::vector<TimedScan>& scans, int stride) {
+  std::vector<TimedScan> kept;
+  std::unordered_map<uint32_t, size_t> seen;  // scans of each sensor so far
+  for (const TimedScan& scan : scans) {
+    if (seen[scan.sensor_id]++ % stride == 0) kept.push_back(scan);
+  }
+  return kept;
+}
+
 BatchResult processBatch(const std::vector<TimedScan>& input, const MapperOptions& requested,
                          BatchMode mode, const std::function<void(size_t, size_t)>& progress,
                          const std::function<void(const ReflectanceField&)>& inspect_field) {
@@ -171,19 +181,33 @@ BatchResult processBatch(const std::vector<TimedScan>& input, const MapperOption
 
   Mapper mapper(options);
   BatchResult result;
-  const int passes =
-      mode == BatchMode::kFull ? options.reflection_removal.max_reflection_iterations + 1 : 1;
-  const size_t total_steps = scans.size() * (passes + 1);
+  const ReflectionRemovalOptions& reflection = options.reflection_removal;
+  const int passes = mode == BatchMode::kFull && reflection.reflection_removal_enabled
+                         ? reflection.max_reflection_iterations + 1
+                         : 1;
+  // Passes before the last only find glass for the next one's cuts: they take fewer scans.
+  auto stride_of = [&](int pass) {
+    if (pass + 1 == passes) return 1;
+    return pass == 0 ? reflection.first_pass_scan_stride : reflection.search_pass_scan_stride;
+  };
+  std::vector<std::vector<TimedScan>> sparse(passes);
+  size_t total_steps = scans.size();  // labelling
+  for (int pass = 0; pass < passes; ++pass) {
+    if (stride_of(pass) > 1) sparse[pass] = everyNthScanOfEachSensor(scans, stride_of(pass));
+    total_steps += stride_of(pass) > 1 ? sparse[pass].size() : scans.size();
+  }
   size_t done = 0;
   std::vector<std::set<std::pair<int, int>>> history;
+  bool settled = false;  // a pass of fewer scans converged: the last pass follows at once
   for (int pass = 0; pass < passes; ++pass) {
+    const std::vector<TimedScan>& inserted = stride_of(pass) > 1 ? sparse[pass] : scans;
     if (pass > 0) mapper.restartEvidence();
     auto start = std::chrono::steady_clock::now();
     // In chunks, so the progress bar moves while the threads insert.
     constexpr size_t kChunk = 256;
-    for (size_t first = 0; first < scans.size(); first += kChunk) {
-      const size_t last = std::min(scans.size(), first + kChunk);
-      mapper.addScans(scans.begin() + first, scans.begin() + last);
+    for (size_t first = 0; first < inserted.size(); first += kChunk) {
+      const size_t last = std::min(inserted.size(), first + kChunk);
+      mapper.addScans(inserted.begin() + first, inserted.begin() + last);
       done += last - first;
       if (progress) progress(done, total_steps);
     }
@@ -191,11 +215,11 @@ BatchResult processBatch(const std::vector<TimedScan>& input, const MapperOption
     start = std::chrono::steady_clock::now();
     mapper.removeMotion();
     result.timings.motion_removal_ms += millisecondsSince(start);
-    if (mode != BatchMode::kFull) break;
+    if (passes == 1) break;
+    ++result.timings.reflection_iterations;
 
     // Alg. 3 iterates until the glass found stops changing. Two panes facing each other can
     // make it alternate (each pass erases the other pane); a repeated state ends the loop.
-    result.timings.reflection_iterations = pass + 1;
     std::set<std::pair<int, int>> glass = blockingCells(mapper.map());
     // Converged when under 1 % of the glass changed: the paper sees no meaningful difference
     // after the first re-processing, and a few cells may flicker forever.
@@ -204,14 +228,21 @@ BatchResult processBatch(const std::vector<TimedScan>& input, const MapperOption
     const bool cycle =
         !converged && std::find(history.begin(), history.end(), glass) != history.end();
     history.push_back(std::move(glass));
-    if (converged) break;
-    if (cycle) {
-      result.timings.reflection_converged = false;
+    if (pass + 1 == passes) {
+      // Compared with a pass of fewer scans that had already settled, the glass says nothing new.
+      if (!settled) result.timings.reflection_converged = converged;
       break;
     }
-    if (pass + 1 == passes) result.timings.reflection_converged = false;
+    if (!converged && !cycle) continue;
+    result.timings.reflection_converged = converged;
+    // A pass that took every scan is final; after one that took fewer, the last pass follows.
+    if (stride_of(pass) == 1) break;
+    settled = true;
+    for (int skipped = pass + 1; skipped + 1 < passes; ++skipped)
+      total_steps -= stride_of(skipped) > 1 ? sparse[skipped].size() : scans.size();
+    pass = passes - 2;
   }
-  if (progress) done = scans.size() * passes;
+  done = total_steps - scans.size();
 
   if (inspect_field) inspect_field(mapper.field());
   const auto start = std::chrono::steady_clock::now();

@@ -75,6 +75,8 @@ void MotionRemovalOptions::validate() const {
 void ReflectionRemovalOptions::validate() const {
   requireRange("penetration_tolerance", penetration_tolerance, 0.0, 5.0);
   requireRange("max_reflection_iterations", max_reflection_iterations, 1, 100);
+  requireRange("first_pass_scan_stride", first_pass_scan_stride, 1, 1000);
+  requireRange("search_pass_scan_stride", search_pass_scan_stride, 1, 1000);
   requireRange("glass_completion_max_gap", glass_completion_max_gap, 0.0, 20.0);
   requireRange("scan_buffer_size", scan_buffer_size, 0, 100000);
   requireRange("clearance_block_shift", clearance_block_shift, 0, ClearanceMap::kMaxBlockShift);
@@ -210,6 +212,16 @@ const std::vector<FieldAccess>& accessTable() {
       {{"max_reflection_iterations", "batch re-processing passes", T::kInt},
        {},
        [](MapperOptions& o) -> int& { return o.reflection_removal.max_reflection_iterations; },
+       {}},
+      {{"first_pass_scan_stride", "batch: first pass inserts every Nth scan of each sensor",
+        T::kInt},
+       {},
+       [](MapperOptions& o) -> int& { return o.reflection_removal.first_pass_scan_stride; },
+       {}},
+      {{"search_pass_scan_stride",
+        "batch: later passes but the last insert every Nth scan of each sensor", T::kInt},
+       {},
+       [](MapperOptions& o) -> int& { return o.reflection_removal.search_pass_scan_stride; },
        {}},
       {{"glass_completion_max_gap", "free stretch of a glass line taken as glass (m, 0 off)",
         T::kDouble},

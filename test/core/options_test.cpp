@@ -37,6 +37,8 @@ TEST(MapperOptions, EveryBadValueIsRejectedNamingTheField) {
       {"opaque_min_length", {-0.1, 1000.0}},
       {"penetration_tolerance", {-0.1, 10.0}},
       {"max_reflection_iterations", {0, 1000}},
+      {"first_pass_scan_stride", {0, 1001}},
+      {"search_pass_scan_stride", {0, 1001}},
       {"glass_completion_max_gap", {-0.1, 25.0, nan}},
       {"scan_buffer_size", {-1, 1e7}},
   };

@@ -85,30 +85,95 @@ TEST(ReflectionRemoval, WallSeenThroughGlassIsAReflection) {
   for (const auto& step : driveBy({0.0, -4.0}, {0.0, 4.0}, kPi / 2)) {
     scans.push_back(world.timedScan(step.robot, 0.025 * scans.size()));
   }
-  const BatchResult full = processBatch(scans, testing::scenarioOptions(), BatchMode::kFull);
   const BatchResult motion_only =
       processBatch(scans, testing::scenarioOptions(), BatchMode::kMotionRemoval);
-  // Rays through the pane towards the wall: labelled reflection in full mode.
-  const LabelCounts with = count(full.labels), without = count(motion_only.labels);
-  EXPECT_EQ(without.reflection, 0u);
-  EXPECT_GT(with.reflection, 0.3 * (with.kept + with.reflection + with.motion));
-  // The pane itself is kept.
-  const GridGeometry g(0.05, 180);
-  int glass = 0, total = 0;
-  for (double y = -2.8; y <= 2.8; y += 0.05, ++total) {
-    glass += isObstacle(full.map.get(g.cellOf({2.0 + 1e-3, y}))) ||
-             isObstacle(full.map.get(g.cellOf({2.0 - 1e-3, y})));
+  EXPECT_EQ(count(motion_only.labels).reflection, 0u);
+  // The search passes with every scan (as Alg. 3 reads) and with every Nth (the default).
+  MapperOptions every_scan = testing::scenarioOptions();
+  every_scan.reflection_removal.first_pass_scan_stride = 1;
+  every_scan.reflection_removal.search_pass_scan_stride = 1;
+  for (const MapperOptions& options : {every_scan, testing::scenarioOptions()}) {
+    SCOPED_TRACE(options.reflection_removal.first_pass_scan_stride);
+    const BatchResult full = processBatch(scans, options, BatchMode::kFull);
+    // Rays through the pane towards the wall: labelled reflection in full mode.
+    const LabelCounts with = count(full.labels);
+    EXPECT_GT(with.reflection, 0.3 * (with.kept + with.reflection + with.motion));
+    // The pane itself is kept.
+    const GridGeometry g(0.05, 180);
+    int glass = 0, total = 0;
+    for (double y = -2.8; y <= 2.8; y += 0.05, ++total) {
+      glass += isObstacle(full.map.get(g.cellOf({2.0 + 1e-3, y}))) ||
+               isObstacle(full.map.get(g.cellOf({2.0 - 1e-3, y})));
+    }
+    EXPECT_GT(glass, 0.9 * total);
+    // The wall behind, seen only through the glass, is not an obstacle in the full map.
+    int wall = 0;
+    total = 0;
+    for (double y = -2.0; y <= 2.0; y += 0.05, ++total) {
+      wall += isObstacle(full.map.get(g.cellOf({4.0 + 1e-3, y}))) ||
+              isObstacle(full.map.get(g.cellOf({4.0 - 1e-3, y})));
+    }
+    EXPECT_LT(wall, 0.1 * total);
   }
-  EXPECT_GT(glass, 0.9 * total);
-  // The wall behind, seen only through the glass, is not an obstacle in the full map.
-  int wall = 0;
-  total = 0;
-  for (double y = -2.0; y <= 2.0; y += 0.05, ++total) {
-    wall += isObstacle(full.map.get(g.cellOf({4.0 + 1e-3, y}))) ||
-            isObstacle(full.map.get(g.cellOf({4.0 - 1e-3, y})));
+  // With every scan in every pass, the glass found settles (passes of different scans differ by
+  // their sampling too).
+  EXPECT_TRUE(processBatch(scans, every_scan, BatchMode::kFull).timings.reflection_converged);
+}
+
+TEST(ReflectionRemoval, EveryNthScanOfEachSensorKeepsEachSensorsOrder) {
+  std::vector<TimedScan> scans(10);
+  for (size_t i = 0; i < scans.size(); ++i) {
+    scans[i].sensor_id = static_cast<uint32_t>(i % 2);
+    scans[i].stamp = static_cast<double>(i);  // the scan's index
   }
-  EXPECT_LT(wall, 0.1 * total);
-  EXPECT_TRUE(full.timings.reflection_converged);
+  const std::vector<TimedScan> kept = everyNthScanOfEachSensor(scans, 3);
+  std::vector<double> indices;
+  for (const TimedScan& scan : kept)
+    indices.push_back(scan.stamp);
+  // Sensor 0 has scans 0, 2, 4, 6, 8 (its 0th and 3rd: 0 and 6); sensor 1 has 1, 3, ... (1, 7).
+  EXPECT_EQ(indices, (std::vector<double>{0, 1, 6, 7}));
+  EXPECT_EQ(everyNthScanOfEachSensor(scans, 1).size(), scans.size());
+}
+
+// The batch's passes before the last take every Nth scan of each sensor, the last every scan:
+// the progress it reports counts the scans each pass inserted, then the labelled ones.
+TEST(ReflectionRemoval, SearchPassesInsertEveryNthScanAndTheLastEveryScan) {
+  SyntheticWorld world;
+  world.addFramedPane({2.0, -3.0}, {2.0, 3.0});
+  world.addWall({4.0, -6.0}, {4.0, 6.0});
+  std::vector<TimedScan> scans;
+  for (const auto& step : driveBy({0.0, -4.0}, {0.0, 4.0}, kPi / 2)) {
+    scans.push_back(world.timedScan(step.robot, 0.0125 * scans.size()));
+    scans.back().sensor_id = static_cast<uint32_t>(scans.size() % 2);  // two lidars, interleaved
+  }
+  const size_t n = scans.size();
+  auto per_pass = [&](int stride) { return everyNthScanOfEachSensor(scans, stride).size(); };
+  ASSERT_EQ(per_pass(8), (n / 2 + 7) / 8 + ((n + 1) / 2 + 7) / 8);
+
+  MapperOptions options = testing::scenarioOptions();
+  options.reflection_removal.first_pass_scan_stride = 8;
+  options.reflection_removal.search_pass_scan_stride = 2;
+  for (int iterations : {2, 5}) {
+    SCOPED_TRACE(iterations);
+    options.reflection_removal.max_reflection_iterations = iterations;
+    size_t last_done = 0, last_total = 0;
+    const BatchResult full =
+        processBatch(scans, options, BatchMode::kFull, [&](size_t done, size_t total) {
+          last_done = done;
+          last_total = total;
+        });
+    // Passes 0 (every 8th), 1 .. k-2 (every 2nd), k-1 (every scan), then the labelling. A
+    // search pass whose glass settled hands over to the last pass at once.
+    const int passes = full.timings.reflection_iterations;
+    ASSERT_GE(passes, 3);
+    EXPECT_LE(passes, iterations + 1);
+    EXPECT_EQ(last_done, last_total);
+    EXPECT_EQ(last_total, per_pass(8) + (passes - 2) * per_pass(2) + n + n);
+    if (iterations == 5) {
+      EXPECT_LT(passes, 6) << "the settled glass was searched again";
+    }
+    EXPECT_GT(count(full.labels).reflection, 0u);
+  }
 }
 
 // A mirror returns near its normal and otherwise folds the ray into a virtual image behind it.

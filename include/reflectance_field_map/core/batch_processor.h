@@ -34,9 +34,14 @@ struct BatchResult {
   BatchTimings timings;
 };
 
+// Every `stride`th scan of each sensor (by sensor_id), in their order: the scans a batch pass
+// that only searches for glass inserts (ReflectionRemovalOptions::first_pass_scan_stride).
+std::vector<TimedScan> everyNthScanOfEachSensor(const std::vector<TimedScan>& scans, int stride);
+
 // Processes a whole recording: builds the map from every scan, runs motion removal and
 // iterative reflection removal over the final field and labels every beam against the final
-// map. Uses the same Mapper code as the live node. `progress(done, total)` may be empty.
+// map. Alg. 3's passes before the last take every Nth scan of each sensor (the options'
+// first_pass_scan_stride and search_pass_scan_stride); the last takes every scan. Uses the same Mapper code as the live node. `progress(done, total)` may be empty.
 // `inspect_field`, when set, sees the final reflectance field (e.g. for theta-resolved pictures).
 // Throws std::invalid_argument when the recording is too large for one window
 // (ActiveRegionOptions::kMaxWindowRadius).

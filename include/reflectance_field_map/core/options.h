@@ -109,6 +109,13 @@ struct ReflectionRemovalOptions {
   // Batch re-processing passes (the paper's 1 loses glass on the shipped scenes, 3 changes
   // nothing there).
   int max_reflection_iterations = 2;
+  // The batch's passes before the last only find the glass that the last one cuts rays at, and
+  // neighbouring scans of a sensor (25 ms apart at 40 Hz) see nearly the same: those passes
+  // insert every Nth scan of each sensor. The first (no glass known yet) every
+  // `first_pass_scan_stride`th, the others every `search_pass_scan_stride`th; the last pass
+  // inserts and labels every scan. 1: every scan in every pass, as Alg. 3 reads.
+  int first_pass_scan_stride = 8;
+  int search_pass_scan_stride = 2;
   // Free stretches of a glass line, never faced, up to this long between structure are glass
   // (GlassCompletion; 0: off).
   double glass_completion_max_gap = 2.0;  // m
