@@ -35,7 +35,8 @@ struct BatchResult {
 };
 
 // Every `stride`th scan of each sensor (by sensor_id), in their order: the scans a batch pass
-// that only searches for glass inserts (ReflectionRemovalOptions::first_pass_scan_stride).
+// that only searches for glass inserts (ReflectionRemovalOptions::first_pass_scan_stride and
+// search_pass_scan_stride).
 std::vector<TimedScan> everyNthScanOfEachSensor(const std::vector<TimedScan>& scans, int stride);
 
 // Processes a whole recording: builds the map from every scan, runs motion removal and
