@@ -11,10 +11,15 @@
 #include <tf2_msgs/TFMessage.h>
 
 #include <algorithm>
+#include <atomic>
+#include <exception>
 #include <filesystem>
+#include <iterator>
 #include <map>
 #include <numeric>
 #include <sstream>
+#include <thread>
+#include <utility>
 
 namespace rfm {
 namespace offline {
@@ -40,6 +45,14 @@ struct Failures {
     if (count[topic]++ == 0) first[topic] = reason;
     ++total;
   }
+  // Adds a later stretch's failures (its first reasons come after this one's).
+  void merge(const Failures& later) {
+    for (size_t t = 0; t < count.size(); ++t) {
+      if (count[t] == 0) first[t] = later.first[t];
+      count[t] += later.count[t];
+    }
+    total += later.total;
+  }
   std::string describe(const BagScans& scans) const {
     std::ostringstream out;
     for (size_t t = 0; t < count.size(); ++t) {
@@ -57,6 +70,70 @@ std::string stampText(const ros::Time& stamp) {
   out.precision(3);
   out << stamp.toSec();
   return out.str();
+}
+
+// What one reader takes from its stretch of the recording, in bag order.
+struct BagStretch {
+  explicit BagStretch(size_t topics) : scans_per_topic(topics, 0), malformed(topics) {}
+  std::vector<std::pair<geometry_msgs::TransformStamped, bool>> transforms;  // and whether static
+  uint64_t tf_messages = 0;
+  std::vector<TimedScan> scans;
+  std::vector<ScanSource> sources;
+  std::vector<uint64_t> scans_per_topic;
+  Failures malformed;
+  bool zero_stamps = false;
+};
+
+// Reads a view of scan and TF messages; `counted` is called after each message.
+void readStretch(rosbag::View& view, const std::map<std::string, uint32_t>& topic_index,
+                 BagStretch& out, const std::function<void()>& counted) {
+  for (const rosbag::MessageInstance& message : view) {
+    const std::string& topic = message.getTopic();
+    const auto scan_topic = topic_index.find(topic);
+    if (scan_topic == topic_index.end()) {
+      const tf2_msgs::TFMessage::ConstPtr tf_message = message.instantiate<tf2_msgs::TFMessage>();
+      if (tf_message) {
+        const bool is_static = topic == "/tf_static";
+        for (geometry_msgs::TransformStamped transform : tf_message->transforms) {
+          transform.header.frame_id = normalizedFrame(transform.header.frame_id);
+          transform.child_frame_id = normalizedFrame(transform.child_frame_id);
+          out.transforms.emplace_back(std::move(transform), is_static);
+        }
+        ++out.tf_messages;
+      }
+      counted();
+      continue;
+    }
+    const sensor_msgs::LaserScan::ConstPtr msg = message.instantiate<sensor_msgs::LaserScan>();
+    if (!msg) {
+      counted();
+      continue;
+    }
+    ScanSource source;
+    source.topic_index = scan_topic->second;
+    source.seq = msg->header.seq;
+    source.stamp = msg->header.stamp;
+    source.bag_time = message.getTime();
+    source.frame_id = normalizedFrame(msg->header.frame_id);
+    if (source.stamp.isZero()) {
+      source.stamp = source.bag_time;  // unstamped driver: the recording time is all we have
+      out.zero_stamps = true;
+    }
+    TimedScan scan;
+    scan.sensor_id = source.topic_index;
+    scan.stamp = source.stamp.toSec();
+    scan.scan = reflectance_field_map::toLaserScan2D(*msg);
+    // The node rejects these; a recording is taken as it is (none of its scans dropped).
+    source.reversed = scan.scan.angle_increment < 0.0f && !scan.scan.ranges.empty();
+    if (source.reversed) reverseBeamOrder(scan.scan);
+    const std::string problem = scan.scan.validate();
+    if (!problem.empty())
+      out.malformed.add(source.topic_index, "t=" + stampText(source.stamp) + ": " + problem);
+    ++out.scans_per_topic[source.topic_index];
+    out.scans.push_back(std::move(scan));
+    out.sources.push_back(std::move(source));
+    counted();
+  }
 }
 
 }  // namespace
@@ -136,74 +213,77 @@ BagScans readBagScans(const BagInputOptions& options,
   // TF: the whole bag's /tf and /tf_static in one buffer whose cache spans the recording.
   const double span = bag_end > bag_begin ? (bag_end - bag_begin).toSec() : 0.0;
   tf2::BufferCore tf(ros::Duration(span + 60.0));
-  std::vector<std::string> tf_topics;
+  std::vector<std::string> read_topics = result.topics;
   for (const char* topic : {"/tf", "/tf_static"}) {
-    if (types.count(topic)) tf_topics.push_back(topic);
-  }
-  if (!tf_topics.empty()) {
-    try {
-      rosbag::View view(bag, rosbag::TopicQuery(tf_topics));
-      for (const rosbag::MessageInstance& message : view) {
-        const tf2_msgs::TFMessage::ConstPtr tf_message = message.instantiate<tf2_msgs::TFMessage>();
-        if (!tf_message) continue;
-        const bool is_static = message.getTopic() == "/tf_static";
-        for (geometry_msgs::TransformStamped transform : tf_message->transforms) {
-          transform.header.frame_id = normalizedFrame(transform.header.frame_id);
-          transform.child_frame_id = normalizedFrame(transform.child_frame_id);
-          tf.setTransform(transform, "rosbag", is_static);
-        }
-        ++result.tf_messages;
-      }
-    } catch (const rosbag::BagException& e) {
-      throw BagInputError("cannot read TF from " + options.bag + ": " + e.what());
-    }
+    if (types.count(topic)) read_topics.push_back(topic);
   }
 
-  // Scans, in bag order first.
+  // TF and scans in one view: the topics share the bag's chunks, so a view per kind would
+  // decompress every chunk twice. Two threads read the two halves of the recording, each with
+  // its own handle on the bag; their stretches are joined in bag order.
   std::map<std::string, uint32_t> topic_index;
   for (size_t t = 0; t < result.topics.size(); ++t) {
     topic_index[result.topics[t]] = static_cast<uint32_t>(t);
   }
+  std::vector<BagStretch> stretches;
+  try {
+    const rosbag::TopicQuery query(read_topics);
+    const size_t total = rosbag::View(bag, query).size();
+    std::atomic<size_t> done{0};
+    const bool split = bag_end - bag_begin > ros::Duration(1.0);
+    const ros::Time middle = bag_begin + (bag_end - bag_begin) * 0.5;
+    stretches.resize(split ? 2 : 1, BagStretch(result.topics.size()));
+    std::exception_ptr second_error;
+    std::thread second;
+    if (split) {
+      second = std::thread([&] {
+        try {
+          rosbag::Bag own;
+          own.open(options.bag, rosbag::bagmode::Read);
+          rosbag::View view(own, query, middle + ros::Duration(0, 1), bag_end);
+          readStretch(view, topic_index, stretches[1], [&done] { ++done; });
+        } catch (...) {
+          second_error = std::current_exception();
+        }
+      });
+    }
+    // This thread alone reports progress: the bar is not shared.
+    try {
+      rosbag::View view(bag, query, split ? bag_begin : ros::TIME_MIN,
+                        split ? middle : ros::TIME_MAX);
+      readStretch(view, topic_index, stretches[0], [&] {
+        if (progress) progress(std::min(++done, total), total);
+      });
+    } catch (...) {
+      if (second.joinable()) second.join();
+      throw;
+    }
+    if (second.joinable()) second.join();
+    if (second_error) std::rethrow_exception(second_error);
+    if (progress) progress(total, total);
+  } catch (const rosbag::BagException& e) {
+    throw BagInputError("cannot read " + options.bag + ": " + e.what());
+  }
+
   std::vector<TimedScan> scans;
   std::vector<ScanSource> sources;
   Failures malformed(result.topics.size());
   bool zero_stamps = false;
-  try {
-    rosbag::View view(bag, rosbag::TopicQuery(result.topics));
-    const size_t total = view.size();
-    scans.reserve(total);
-    sources.reserve(total);
-    size_t done = 0;
-    for (const rosbag::MessageInstance& message : view) {
-      const sensor_msgs::LaserScan::ConstPtr msg = message.instantiate<sensor_msgs::LaserScan>();
-      if (!msg) continue;
-      ScanSource source;
-      source.topic_index = topic_index.at(message.getTopic());
-      source.seq = msg->header.seq;
-      source.stamp = msg->header.stamp;
-      source.bag_time = message.getTime();
-      source.frame_id = normalizedFrame(msg->header.frame_id);
-      if (source.stamp.isZero()) {
-        source.stamp = source.bag_time;  // unstamped driver: the recording time is all we have
-        zero_stamps = true;
-      }
-      TimedScan scan;
-      scan.sensor_id = source.topic_index;
-      scan.stamp = source.stamp.toSec();
-      scan.scan = reflectance_field_map::toLaserScan2D(*msg);
-      // The node rejects these; a recording is taken as it is (none of its scans dropped).
-      source.reversed = scan.scan.angle_increment < 0.0f && !scan.scan.ranges.empty();
-      if (source.reversed) reverseBeamOrder(scan.scan);
-      const std::string problem = scan.scan.validate();
-      if (!problem.empty())
-        malformed.add(source.topic_index, "t=" + stampText(source.stamp) + ": " + problem);
-      ++result.scans_per_topic[source.topic_index];
-      scans.push_back(std::move(scan));
-      sources.push_back(std::move(source));
-      if (progress) progress(++done, total);
+  for (BagStretch& stretch : stretches) {
+    for (const auto& [transform, is_static] : stretch.transforms)
+      tf.setTransform(transform, "rosbag", is_static);
+    result.tf_messages += stretch.tf_messages;
+    for (size_t t = 0; t < result.topics.size(); ++t)
+      result.scans_per_topic[t] += stretch.scans_per_topic[t];
+    malformed.merge(stretch.malformed);
+    zero_stamps |= stretch.zero_stamps;
+    if (scans.empty()) {
+      scans = std::move(stretch.scans);
+      sources = std::move(stretch.sources);
+    } else {
+      std::move(stretch.scans.begin(), stretch.scans.end(), std::back_inserter(scans));
+      std::move(stretch.sources.begin(), stretch.sources.end(), std::back_inserter(sources));
     }
-  } catch (const rosbag::BagException& e) {
-    throw BagInputError("cannot read scans from " + options.bag + ": " + e.what());
   }
   if (zero_stamps) result.notes.push_back("scans with a zero header stamp use their bag time");
   if (malformed.total > 0) {

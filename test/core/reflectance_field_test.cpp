@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <random>
+#include <utility>
 #include <vector>
 
 namespace rfm {
@@ -390,22 +391,27 @@ TEST(ReflectanceField, DefaultActiveRegionFitsInFortyMegabytes) {
   EXPECT_LE(field.activeBytes(), 40u * 1000u * 1000u);
 }
 
-// The field's slices come from this allocator: large blocks start on a huge page (so the kernel
-// can back them with huge pages), small ones are ordinary; both hold what is written.
-TEST(HugePageAllocator, LargeBlocksStartOnAHugePageAndAllBlocksHoldTheirValues) {
-  constexpr size_t kHuge = HugePageAllocator<int8_t>::kHugePageBytes;
-  HugePageVector<int8_t> large(kHuge + 12345, 0);
-  EXPECT_EQ(reinterpret_cast<uintptr_t>(large.data()) % kHuge, 0u);
-  large.back() = 7;
-  EXPECT_EQ(std::count(large.begin(), large.end(), 0), static_cast<long>(large.size()) - 1);
-  HugePageVector<uint64_t> small(100, 3);
-  small.resize(kHuge / sizeof(uint64_t) + 1, 5);  // grows from a small block to a large one
-  EXPECT_EQ(small[99], 3u);
-  EXPECT_EQ(small.back(), 5u);
-  EXPECT_EQ(reinterpret_cast<uintptr_t>(small.data()) % kHuge, 0u);
-  small.resize(10);
-  small.shrink_to_fit();  // back to a small block
-  EXPECT_EQ(small[9], 3u);
+// The field's slices and masks live in these arrays: zero without being written, whatever their
+// size, and they hold what is written; copies are deep, a moved-from array is empty.
+TEST(ZeroedHugeArray, StartsZeroAndHoldsWhatIsWritten) {
+  constexpr size_t kHuge = ZeroedHugeArray<int8_t>::kHugePageBytes;
+  ZeroedHugeArray<int8_t> large(3 * kHuge + 12345);
+  ASSERT_EQ(large.size(), 3 * kHuge + 12345);
+  EXPECT_EQ(std::count(large.begin(), large.end(), 0), static_cast<long>(large.size()));
+  large[large.size() - 1] = 7;
+  large[kHuge] = -3;
+  EXPECT_EQ(std::count(large.begin(), large.end(), 0), static_cast<long>(large.size()) - 2);
+
+  ZeroedHugeArray<uint64_t> small(100);
+  EXPECT_EQ(std::count(small.begin(), small.end(), 0u), 100);
+  small[99] = 5;
+  const ZeroedHugeArray<uint64_t> copy = small;
+  small[99] = 6;
+  EXPECT_EQ(copy[99], 5u);
+  ZeroedHugeArray<uint64_t> moved = std::move(small);
+  EXPECT_EQ(moved[99], 6u);
+  EXPECT_EQ(small.size(), 0u);  // NOLINT: the moved-from state is specified
+  EXPECT_EQ(ZeroedHugeArray<int8_t>().size(), 0u);
 }
 
 TEST(TileArchive, CompressionRoundTripsEveryPattern) {

@@ -1,12 +1,12 @@
 #pragma once
 
 #include "reflectance_field_map/core/grid_geometry.h"
-#include "reflectance_field_map/core/huge_page_allocator.h"
 #include "reflectance_field_map/core/log_odds.h"
 #include "reflectance_field_map/core/options.h"
 #include "reflectance_field_map/core/parallel_runner.h"
 #include "reflectance_field_map/core/rolling_window.h"
 #include "reflectance_field_map/core/tile_archive.h"
+#include "reflectance_field_map/core/zeroed_huge_array.h"
 
 #include <cstdint>
 #include <iosfwd>
@@ -280,14 +280,14 @@ class ReflectanceField {
   size_t plane_;  // cells in one theta slice of the window
   int mask_words_;
   bool centred_ = false;
-  HugePageVector<int8_t> bins_;                // [bin][y][x]
-  HugePageVector<uint64_t> reflective_masks_;  // [y][x][word]
-  std::vector<uint16_t> missed_bins_;          // [y][x]
-  std::vector<uint8_t> hit_since_tick_;        // [y][x]
-  std::vector<uint16_t> reflective_bins_;      // [y][x]
-  std::vector<uint8_t> confirmed_ticks_;       // [y][x]
-  std::vector<int> tile_reflective_cells_;     // per storage tile
-  std::vector<uint32_t> tile_versions_;        // per storage tile
+  ZeroedHugeArray<int8_t> bins_;                // [bin][y][x]
+  ZeroedHugeArray<uint64_t> reflective_masks_;  // [y][x][word]
+  std::vector<uint16_t> missed_bins_;           // [y][x]
+  std::vector<uint8_t> hit_since_tick_;         // [y][x]
+  std::vector<uint16_t> reflective_bins_;       // [y][x]
+  std::vector<uint8_t> confirmed_ticks_;        // [y][x]
+  std::vector<int> tile_reflective_cells_;      // per storage tile
+  std::vector<uint32_t> tile_versions_;         // per storage tile
   // A new number for every field object, copies and assignments included.
   struct Identity {
     Identity();
