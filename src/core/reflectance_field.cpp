@@ -290,6 +290,17 @@ void ReflectanceField::rebuildCellSummary(int storage_index) {
   ++tile_versions_[tile];
 }
 
+void ReflectanceField::applySummaryChanges(const std::vector<DeferredSummaries>& writers,
+                                           ParallelRunner* runner) {
+  if (writers.empty()) return;
+  parallelFor(runner, writers.front().parts.size(), 1, [&](size_t part, int) {
+    for (const DeferredSummaries& writer : writers) {
+      for (const SummaryChange& c : writer.parts[part])
+        applySummaryChange(c.slot, c.bin, c.reflective, c.missed);
+    }
+  });
+}
+
 void ReflectanceField::tickPersistence(int remembered_min_bins, int confirmed_min_ticks,
                                        ParallelRunner* runner) {
   // On the runner's threads: they split the histories by hash bucket and the cells by tile, and

@@ -10,7 +10,7 @@ namespace {
 struct FieldTarget {
   static constexpr bool kOneFanPerGroup = true;
   ReflectanceField& field;
-  std::vector<ReflectanceField::SummaryChange>* deferred;  // null: apply summaries at once
+  ReflectanceField::DeferredSummaries* deferred;  // null: apply summaries at once
   ReflectanceField::SliceWriter writer(int bin) { return field.sliceWriter(bin, deferred); }
 };
 
@@ -49,8 +49,22 @@ void bucketRaysByBin(const std::vector<Ray>& rays, const GridGeometry& geometry,
 ScanInserter::ScanInserter(int threads)
     : ScanInserter(threads > 1 ? std::make_shared<ParallelRunner>(threads) : nullptr) {}
 
+namespace {
+
+// Lists per thread's deferred summary changes: as many as threads, rounded down to a power of two.
+int summaryParts(const ParallelRunner* runner) {
+  int parts = 1;
+  while (runner && parts * 2 <= runner->threads())
+    parts *= 2;
+  return parts;
+}
+
+}  // namespace
+
 ScanInserter::ScanInserter(std::shared_ptr<ParallelRunner> runner)
-    : inserters_(runner ? runner->threads() : 1), runner_(std::move(runner)) {}
+    : inserters_(runner ? runner->threads() : 1),
+      deferred_(inserters_.size(), ReflectanceField::DeferredSummaries(summaryParts(runner.get()))),
+      runner_(std::move(runner)) {}
 
 ScanInserter::~ScanInserter() = default;
 
@@ -109,18 +123,16 @@ void ScanInserter::run(const std::vector<Ray>& rays, const ReflectanceField& fie
 }
 
 size_t ScanInserter::insert(const std::vector<Ray>& rays, ReflectanceField& field) {
-  deferred_.resize(inserters_.size());
-  for (DeferredChanges& deferred : deferred_)
-    deferred.changes.clear();
+  for (ReflectanceField::DeferredSummaries& deferred : deferred_)
+    deferred.clear();
   // Part -1 is the caller alone; parts running side by side defer their summary changes.
   run(
       rays, field,
       [&](int part) {
-        return FieldTarget{field, part < 0 ? nullptr : &deferred_[part].changes};
+        return FieldTarget{field, part < 0 ? nullptr : &deferred_[part]};
       },
       /*parallel=*/true);
-  for (const DeferredChanges& deferred : deferred_)
-    field.applySummaryChanges(deferred.changes);
+  field.applySummaryChanges(deferred_, runner_.get());
   return updates_;
 }
 
@@ -128,14 +140,13 @@ size_t ScanInserter::insertScans(const std::vector<std::vector<Ray>>& scans, siz
                                  ReflectanceField& field) {
   if (batch_.size() < count) batch_.resize(count);
   parallelFor(runner_.get(), count, 1, [&](size_t s, int) { prepare(scans[s], field, batch_[s]); });
-  deferred_.resize(inserters_.size());
-  for (DeferredChanges& deferred : deferred_)
-    deferred.changes.clear();
+  for (ReflectanceField::DeferredSummaries& deferred : deferred_)
+    deferred.clear();
   const double inverse_resolution = field.geometry().inverseResolution();
   // Each bin sees the scans in their order, so its filters take the same updates as scan by scan.
   const size_t updates = forBinChunks(
       field.geometry().thetaBins(), true, [&](size_t first_bin, size_t end_bin, int part) {
-        FieldTarget target{field, part < 0 ? nullptr : &deferred_[part].changes};
+        FieldTarget target{field, part < 0 ? nullptr : &deferred_[part]};
         DeduplicatingRayInserter& inserter = inserters_[std::max(part, 0)];
         size_t done = 0;
         for (size_t s = 0; s < count; ++s) {
@@ -145,8 +156,7 @@ size_t ScanInserter::insertScans(const std::vector<std::vector<Ray>>& scans, siz
         }
         return done;
       });
-  for (const DeferredChanges& deferred : deferred_)
-    field.applySummaryChanges(deferred.changes);
+  field.applySummaryChanges(deferred_, runner_.get());
   return updates;
 }
 

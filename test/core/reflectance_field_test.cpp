@@ -327,22 +327,30 @@ TEST(ReflectanceField, SliceWriterSummariesMatchBinsForAnyStepsAndClamps) {
     ReflectanceField field(GridOptions(), log_odds, testing::regionOfRadius(2.0));
     field.recenter({0.0, 0.0});
     std::mt19937 rng(11);
-    std::uniform_int_distribution<int> coordinate(-3, 3), bin(0, 179), coin(0, 2);
+    // Cells in four tiles along each axis, so the deferred changes fill all four lists.
+    constexpr int kCoordinates[] = {-20, -17, -3, -1, 0, 2, 17, 19};
+    std::uniform_int_distribution<int> coordinate(0, 7), bin(0, 179), coin(0, 2);
+    ParallelRunner runner(2);
     for (const bool deferred : {false, true}) {
-      std::vector<ReflectanceField::SummaryChange> changes;
+      // Two writers' changes (each bin has one writer, as in the inserter), each in four lists
+      // by tile, applied on two threads.
+      std::vector<ReflectanceField::DeferredSummaries> changes(
+          2, ReflectanceField::DeferredSummaries(4));
       for (int i = 0; i < 100000; ++i) {
-        const int slot = field.window().storageIndex({coordinate(rng), coordinate(rng)});
-        auto writer = field.sliceWriter(bin(rng), deferred ? &changes : nullptr);
+        const int slot = field.window().storageIndex(
+            {kCoordinates[coordinate(rng)], kCoordinates[coordinate(rng)]});
+        const int b = bin(rng);
+        auto writer = field.sliceWriter(b, deferred ? &changes[b % 2] : nullptr);
         if (coin(rng) == 0) {
           writer.hit(slot);
         } else {
           writer.miss(slot);
         }
       }
-      field.applySummaryChanges(changes);
+      field.applySummaryChanges(changes, &runner);
     }
-    for (int cy = -3; cy <= 3; ++cy) {
-      for (int cx = -3; cx <= 3; ++cx) {
+    for (const int cy : kCoordinates) {
+      for (const int cx : kCoordinates) {
         int reflective = 0, missed = 0;
         for (int b = 0; b < 180; ++b) {
           const int8_t v = field.value({cx, cy}, b);

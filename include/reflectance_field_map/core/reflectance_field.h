@@ -73,10 +73,22 @@ class ReflectanceField {
     int8_t missed;      // +1 became missed, -1 stopped being, 0 unchanged
   };
 
+  // Summary changes a writer deferred, in lists by storage tile (tile & (parts - 1)): the lists
+  // touch disjoint cells and tiles, so applySummaryChanges applies them side by side. A pass
+  // starts with every bin at the prior, so each (cell, bin) a pass sees is a change.
+  struct alignas(64) DeferredSummaries {
+    explicit DeferredSummaries(int parts = 1) : parts(parts) {}  // a power of two
+    void clear() {
+      for (std::vector<SummaryChange>& part : parts)
+        part.clear();
+    }
+    std::vector<std::vector<SummaryChange>> parts;
+  };
+
   // Writes one theta slice with everything it needs held locally: int8 stores may alias any
   // member, so going through `this` would reload them after every update.
   // Writers of different slices may run concurrently when each defers its summary changes to
-  // its own list, applied afterwards by applySummaryChanges (rare next to updates).
+  // its own lists, applied afterwards by applySummaryChanges.
   class SliceWriter {
    public:
     void hit(int slot) {
@@ -109,8 +121,9 @@ class ReflectanceField {
     // Called only for a change: every value in the ranges tested above crosses or reaches 0.
     void change(int slot, int reflective, int missed) {
       if (deferred_) {
-        deferred_->push_back({slot, static_cast<int16_t>(bin_), static_cast<int8_t>(reflective),
-                              static_cast<int8_t>(missed)});
+        deferred_[(slot >> tile_slot_shift_) & part_mask_].push_back(
+            {slot, static_cast<int16_t>(bin_), static_cast<int8_t>(reflective),
+             static_cast<int8_t>(missed)});
       } else {
         field_->applySummaryChange(slot, bin_, reflective, missed);
       }
@@ -118,16 +131,19 @@ class ReflectanceField {
     int8_t* bins_;
     uint8_t* hit_flags_;
     ReflectanceField* field_;
-    std::vector<SummaryChange>* deferred_;
+    std::vector<SummaryChange>* deferred_;  // DeferredSummaries::parts, or null
+    int tile_slot_shift_, part_mask_;
     int bin_, hit_step_, miss_step_, min_, max_;
   };
   // With `deferred` set, summary changes are appended there instead of applied.
-  SliceWriter sliceWriter(int bin, std::vector<SummaryChange>* deferred = nullptr) {
+  SliceWriter sliceWriter(int bin, DeferredSummaries* deferred = nullptr) {
     SliceWriter w;
     w.bins_ = &bins_[static_cast<size_t>(bin) * plane_];
     w.hit_flags_ = hit_since_tick_.data();
     w.field_ = this;
-    w.deferred_ = deferred;
+    w.deferred_ = deferred ? deferred->parts.data() : nullptr;
+    w.tile_slot_shift_ = window_.tileSlotShift();
+    w.part_mask_ = deferred ? static_cast<int>(deferred->parts.size()) - 1 : 0;
     w.bin_ = bin;
     w.hit_step_ = log_odds_.hitStep();
     w.miss_step_ = log_odds_.missStep();
@@ -135,10 +151,10 @@ class ReflectanceField {
     w.max_ = log_odds_.maxValue();
     return w;
   }
-  void applySummaryChanges(const std::vector<SummaryChange>& changes) {
-    for (const SummaryChange& c : changes)
-      applySummaryChange(c.slot, c.bin, c.reflective, c.missed);
-  }
+  // Applies the writers' deferred changes, the lists of each part on one of the runner's threads
+  // (all writers with the same number of parts). Each bin must have had one writer, so that its
+  // changes, which set and clear its mask bit, keep their order.
+  void applySummaryChanges(const std::vector<DeferredSummaries>& writers, ParallelRunner* runner);
 
   // Single updates by storage index = window().storageIndex(cell).
   void applyHitAt(int storage_index, int bin) {

@@ -71,11 +71,8 @@ class ScanInserter {
   PreparedScan single_;
   std::vector<PreparedScan> batch_;
   std::vector<DeduplicatingRayInserter> inserters_;  // one per thread: each has its own stamps
-  // Per thread, each in its own cache line (threads append to them side by side).
-  struct alignas(64) DeferredChanges {
-    std::vector<ReflectanceField::SummaryChange> changes;
-  };
-  std::vector<DeferredChanges> deferred_;
+  // Per thread, each in its own cache lines (threads append to them side by side).
+  std::vector<ReflectanceField::DeferredSummaries> deferred_;
   std::shared_ptr<ParallelRunner> runner_;
   size_t updates_ = 0;
 };
