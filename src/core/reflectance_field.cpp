@@ -293,12 +293,20 @@ void ReflectanceField::rebuildCellSummary(int storage_index) {
 void ReflectanceField::applySummaryChanges(const std::vector<DeferredSummaries>& writers,
                                            ParallelRunner* runner) {
   if (writers.empty()) return;
-  parallelFor(runner, writers.front().parts.size(), 1, [&](size_t part, int) {
+  auto apply_part = [&](size_t part, int) {
     for (const DeferredSummaries& writer : writers) {
-      for (const SummaryChange& c : writer.parts[part])
+      for (const SummaryChange& c : writer.lists[part])
         applySummaryChange(c.slot, c.bin, c.reflective, c.missed);
     }
-  });
+  };
+  // A scan's few changes (online) are not worth waking a helper for.
+  constexpr size_t kMinChangesToShare = 4096;
+  size_t changes = 0;
+  for (const DeferredSummaries& writer : writers)
+    changes += writer.size();
+  const size_t parts = static_cast<size_t>(writers.front().parts);
+  if (changes < kMinChangesToShare) runner = nullptr;
+  parallelFor(runner, parts, 1, apply_part);
 }
 
 void ReflectanceField::tickPersistence(int remembered_min_bins, int confirmed_min_ticks,

@@ -54,8 +54,10 @@ namespace {
 // Lists per thread's deferred summary changes: as many as threads, rounded down to a power of two.
 int summaryParts(const ParallelRunner* runner) {
   int parts = 1;
-  while (runner && parts * 2 <= runner->threads())
+  while (runner && parts * 2 <= runner->threads() &&
+         parts * 2 <= ReflectanceField::DeferredSummaries::kMaxParts) {
     parts *= 2;
+  }
   return parts;
 }
 

@@ -8,6 +8,7 @@
 #include "reflectance_field_map/core/tile_archive.h"
 #include "reflectance_field_map/core/zeroed_huge_array.h"
 
+#include <array>
 #include <cstdint>
 #include <iosfwd>
 #include <limits>
@@ -76,13 +77,22 @@ class ReflectanceField {
   // Summary changes a writer deferred, in lists by storage tile (tile & (parts - 1)): the lists
   // touch disjoint cells and tiles, so applySummaryChanges applies them side by side. A pass
   // starts with every bin at the prior, so each (cell, bin) a pass sees is a change.
+  // The lists' headers live in the struct, in cache lines of its own: threads append side by side.
   struct alignas(64) DeferredSummaries {
-    explicit DeferredSummaries(int parts = 1) : parts(parts) {}  // a power of two
+    static constexpr int kMaxParts = 8;
+    explicit DeferredSummaries(int parts = 1) : parts(parts) {}  // a power of two <= kMaxParts
     void clear() {
-      for (std::vector<SummaryChange>& part : parts)
-        part.clear();
+      for (std::vector<SummaryChange>& list : lists)
+        list.clear();
     }
-    std::vector<std::vector<SummaryChange>> parts;
+    size_t size() const {
+      size_t changes = 0;
+      for (const std::vector<SummaryChange>& list : lists)
+        changes += list.size();
+      return changes;
+    }
+    int parts;
+    std::array<std::vector<SummaryChange>, kMaxParts> lists;  // the first `parts` in use
   };
 
   // Writes one theta slice with everything it needs held locally: int8 stores may alias any
@@ -131,7 +141,7 @@ class ReflectanceField {
     int8_t* bins_;
     uint8_t* hit_flags_;
     ReflectanceField* field_;
-    std::vector<SummaryChange>* deferred_;  // DeferredSummaries::parts, or null
+    std::vector<SummaryChange>* deferred_;  // DeferredSummaries::lists, or null
     int tile_slot_shift_, part_mask_;
     int bin_, hit_step_, miss_step_, min_, max_;
   };
@@ -141,9 +151,9 @@ class ReflectanceField {
     w.bins_ = &bins_[static_cast<size_t>(bin) * plane_];
     w.hit_flags_ = hit_since_tick_.data();
     w.field_ = this;
-    w.deferred_ = deferred ? deferred->parts.data() : nullptr;
+    w.deferred_ = deferred ? deferred->lists.data() : nullptr;
     w.tile_slot_shift_ = window_.tileSlotShift();
-    w.part_mask_ = deferred ? static_cast<int>(deferred->parts.size()) - 1 : 0;
+    w.part_mask_ = deferred ? deferred->parts - 1 : 0;
     w.bin_ = bin;
     w.hit_step_ = log_odds_.hitStep();
     w.miss_step_ = log_odds_.missStep();
@@ -152,8 +162,8 @@ class ReflectanceField {
     return w;
   }
   // Applies the writers' deferred changes, the lists of each part on one of the runner's threads
-  // (all writers with the same number of parts). Each bin must have had one writer, so that its
-  // changes, which set and clear its mask bit, keep their order.
+  // when there are enough to share (all writers with the same number of parts). Each bin must
+  // have had one writer, so that its changes, which set and clear its mask bit, keep their order.
   void applySummaryChanges(const std::vector<DeferredSummaries>& writers, ParallelRunner* runner);
 
   // Single updates by storage index = window().storageIndex(cell).

@@ -18,7 +18,7 @@ namespace rfm {
 // - calloc hands a large block straight from the kernel, zero without being written: its pages
 //   are faulted in when first touched. So creating the field costs nothing, the threads that
 //   insert fault in the pages they reach side by side, and pages no ray reaches stay unmapped.
-//   (Faulting in 100 MB at once took 6-210 ms on the shared VM, all on one thread.)
+//   (Faulting in 100 MB at once took 6-213 ms on the shared VM, all on one thread.)
 // - Blocks of at least one huge page are offered to the kernel's transparent huge pages (Linux;
 //   elsewhere, and when the kernel declines, they are ordinary pages). A scan's rays then cross
 //   a few dozen 2 MB pages instead of thousands of 4 kB ones: far fewer page translations.
