@@ -191,16 +191,20 @@ BatchResult processBatch(const std::vector<TimedScan>& input, const MapperOption
     return pass == 0 ? reflection.first_pass_scan_stride : reflection.search_pass_scan_stride;
   };
   std::vector<std::vector<TimedScan>> sparse(passes);
-  size_t total_steps = scans.size();  // labelling
   for (int pass = 0; pass < passes; ++pass) {
     if (stride_of(pass) > 1) sparse[pass] = everyNthScanOfEachSensor(scans, stride_of(pass));
-    total_steps += stride_of(pass) > 1 ? sparse[pass].size() : scans.size();
   }
+  auto scans_of = [&](int pass) -> const std::vector<TimedScan>& {
+    return stride_of(pass) > 1 ? sparse[pass] : scans;
+  };
+  size_t total_steps = scans.size();  // labelling
+  for (int pass = 0; pass < passes; ++pass)
+    total_steps += scans_of(pass).size();
   size_t done = 0;
   std::vector<std::set<std::pair<int, int>>> history;
   bool settled = false;  // a pass of fewer scans converged: the last pass follows at once
   for (int pass = 0; pass < passes; ++pass) {
-    const std::vector<TimedScan>& inserted = stride_of(pass) > 1 ? sparse[pass] : scans;
+    const std::vector<TimedScan>& inserted = scans_of(pass);
     if (pass > 0) mapper.restartEvidence();
     auto start = std::chrono::steady_clock::now();
     // In chunks, so the progress bar moves while the threads insert.
@@ -239,7 +243,7 @@ BatchResult processBatch(const std::vector<TimedScan>& input, const MapperOption
     if (stride_of(pass) == 1) break;
     settled = true;
     for (int skipped = pass + 1; skipped + 1 < passes; ++skipped)
-      total_steps -= stride_of(skipped) > 1 ? sparse[skipped].size() : scans.size();
+      total_steps -= scans_of(skipped).size();
     pass = passes - 2;
   }
   done = total_steps - scans.size();

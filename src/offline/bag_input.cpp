@@ -277,13 +277,8 @@ BagScans readBagScans(const BagInputOptions& options,
       result.scans_per_topic[t] += stretch.scans_per_topic[t];
     malformed.merge(stretch.malformed);
     zero_stamps |= stretch.zero_stamps;
-    if (scans.empty()) {
-      scans = std::move(stretch.scans);
-      sources = std::move(stretch.sources);
-    } else {
-      std::move(stretch.scans.begin(), stretch.scans.end(), std::back_inserter(scans));
-      std::move(stretch.sources.begin(), stretch.sources.end(), std::back_inserter(sources));
-    }
+    std::move(stretch.scans.begin(), stretch.scans.end(), std::back_inserter(scans));
+    std::move(stretch.sources.begin(), stretch.sources.end(), std::back_inserter(sources));
   }
   if (zero_stamps) result.notes.push_back("scans with a zero header stamp use their bag time");
   if (malformed.total > 0) {

@@ -41,24 +41,14 @@ void reportRays(benchmark::State& state) {
 // Sweeps a scan's rays theta bin by theta bin as the RFM's insertion does (clipped to the
 // window, bucketed by bin, one visitCellsOfRays per bin), but through `visit` instead of the
 // field's writers. Returns the visitor.
-struct SweepScratch {
-  std::vector<Ray> clipped;
-  std::vector<uint32_t> order, group_begin;
-};
 template <typename Visit>
 Visit sweepScan(ReflectanceField& field, const benchmarking::BenchmarkScan& s,
-                SweepScratch& scratch, Visit visit) {
-  auto& [clipped, order, group_begin] = scratch;
+                ScanInserter::PreparedScan& scratch, Visit visit) {
   field.recenter(s.scan.robot_pose.position);
-  clipped.clear();
-  for (Ray ray : s.rays) {
-    if (clipRayToBox(field.activeBox(), field.geometry().resolution(), ray)) {
-      clipped.push_back(ray);
-    }
-  }
-  bucketRaysByBin(clipped, field.geometry(), order, group_begin);
+  ScanInserter::prepare(s.rays, field, scratch);
+  const std::vector<uint32_t>& group_begin = scratch.group_begin;
   for (size_t bin = 0; bin + 1 < group_begin.size(); ++bin) {
-    visit = visitCellsOfRays(clipped, order.data() + group_begin[bin],
+    visit = visitCellsOfRays(scratch.clipped, scratch.order.data() + group_begin[bin],
                              group_begin[bin + 1] - group_begin[bin],
                              field.geometry().inverseResolution(), field.window(), visit);
   }
@@ -78,7 +68,7 @@ struct VisitCounter {
 double unmarkedVisitShare() {
   const MapperOptions options;
   ReflectanceField field(options.grid, options.log_odds, options.active_region);
-  SweepScratch scratch;
+  ScanInserter::PreparedScan scratch;
   VisitCounter counter;
   for (const auto& s : scans())
     counter = sweepScan(field, s, scratch, counter);
@@ -115,7 +105,7 @@ void BM_RfmSweepOnly(benchmark::State& state) {
   const MapperOptions options;
   ReflectanceField field(options.grid, options.log_odds, options.active_region);
   size_t i = 0;
-  SweepScratch scratch;
+  ScanInserter::PreparedScan scratch;
   VisitCounter counter;
   for (auto _ : state) {
     counter = sweepScan(field, scans()[i++ % scans().size()], scratch, counter);

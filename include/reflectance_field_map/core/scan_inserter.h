@@ -14,9 +14,6 @@ namespace rfm {
 void bucketRaysByBin(const std::vector<Ray>& rays, const GridGeometry& geometry,
                      std::vector<uint32_t>& order, std::vector<uint32_t>& group_begin);
 
-// Adds one scan's rays to the reflectance field (Alg. 1). Each ray updates only the theta
-// slice of its own direction; rays are bucketed by bin (counting sort) so one bin's rays are
-// de-duplicated together. Rays are clipped to the active window first.
 // One (cell, bin) update of a scan, as the inserter applies it.
 struct BinUpdate {
   int32_t slot;  // window storage index
@@ -28,6 +25,9 @@ struct BinUpdate {
   }
 };
 
+// Adds one scan's rays to the reflectance field (Alg. 1). Each ray updates only the theta
+// slice of its own direction; rays are bucketed by bin (counting sort) so one bin's rays are
+// de-duplicated together. Rays are clipped to the active window first.
 class ScanInserter {
  public:
   // With `threads` > 1 the bins of a scan are shared out between that many threads (the caller
@@ -49,13 +49,8 @@ class ScanInserter {
   void collectUpdates(const std::vector<Ray>& rays, const ReflectanceField& field,
                       std::vector<BinUpdate>& updates);
 
- private:
-  // make_target(part) gives the target of one thread's part (-1: the caller alone).
-  template <typename MakeTarget>
-  void run(const std::vector<Ray>& rays, const ReflectanceField& field, MakeTarget&& make_target,
-           bool parallel);
-
-  // A scan's rays clipped to the window and bucketed by theta bin.
+  // A scan's rays clipped to the window and bucketed by theta bin: bin b's rays are
+  // clipped[order[group_begin[b] .. group_begin[b + 1])], as the inserter sweeps them.
   struct PreparedScan {
     std::vector<Ray> clipped;
     std::vector<uint32_t> order;
@@ -63,6 +58,13 @@ class ScanInserter {
   };
   static void prepare(const std::vector<Ray>& rays, const ReflectanceField& field,
                       PreparedScan& prepared);
+
+ private:
+  // make_target(part) gives the target of one thread's part (-1: the caller alone).
+  template <typename MakeTarget>
+  void run(const std::vector<Ray>& rays, const ReflectanceField& field, MakeTarget&& make_target,
+           bool parallel);
+
   // Runs insert_bins(first_bin, end_bin, part) over all bins in chunks: on the runner's threads
   // (part = thread), or in turn by the caller (part -1). Returns the sum of its results.
   template <typename InsertBins>
