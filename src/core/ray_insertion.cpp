@@ -54,7 +54,7 @@ void DeduplicatingRayInserter::prepare(size_t slots) {
   }
 }
 
-uint8_t DeduplicatingRayInserter::nextStamp() {
+uint16_t DeduplicatingRayInserter::nextStamp() {
   if (++stamp_ == 0) {  // wrapped: old stamps could collide with the new ones
     std::fill(stamps_.begin(), stamps_.end(), 0);
     stamp_ = 1;

@@ -46,11 +46,13 @@ class alignas(64) DeduplicatingRayInserter {
 
  private:
   void prepare(size_t slots);
-  uint8_t nextStamp();
+  uint16_t nextStamp();
 
-  // One byte per slot keeps the stamps cache-resident; they are cleared every 255 groups.
-  std::vector<uint8_t> stamps_;
-  uint8_t stamp_ = 0;
+  // Two bytes per slot: the stamps are cleared every 65535 groups. With one byte they were
+  // cleared every 255 groups (about two scans), which for the batch's window of the whole
+  // recording wrote more memory than the sweeps did.
+  std::vector<uint16_t> stamps_;
+  uint16_t stamp_ = 0;
   size_t updates_ = 0;
 };
 
@@ -103,11 +105,11 @@ namespace insertion_detail {
 // any memory, so state reached through pointers or references would be reloaded every cell.
 template <typename Writer>
 struct MissWriter {
-  uint8_t* stamps;
-  uint8_t stamp;
+  uint16_t* stamps;
+  uint16_t stamp;
   Writer writer;
   size_t updates = 0;
-  void operator()(int slot) {
+  __attribute__((always_inline)) void operator()(int slot) {
     if (stamps[slot] != stamp) {
       stamps[slot] = stamp;
       writer.miss(slot);
@@ -120,7 +122,7 @@ struct MissWriter {
 // and that end no ray (visitCellsOfRays) take their miss without a stamp.
 template <typename Writer>
 struct FanMissWriter : MissWriter<Writer> {
-  void once(int slot) {
+  __attribute__((always_inline)) void once(int slot) {
     this->writer.miss(slot);
     ++this->updates;
   }
@@ -143,12 +145,12 @@ void DeduplicatingRayInserter::insert(const RollingWindow& window, double invers
   const int size = window.sizeCells();
   prepare(static_cast<size_t>(size) * size);
   size_t updates = 0;
-  uint8_t* const stamps = stamps_.data();
+  uint16_t* const stamps = stamps_.data();
   end_group = std::min(end_group, group_begin.size() - 1);
   for (size_t group = first_group; group < end_group; ++group) {
     const uint32_t begin = group_begin[group], end = group_begin[group + 1];
     if (begin == end) continue;
-    const uint8_t stamp = nextStamp();
+    const uint16_t stamp = nextStamp();
     auto writer = target.writer(static_cast<int>(group));
     for (uint32_t k = begin; k < end; ++k) {
       const Ray& ray = rays[order[k]];

@@ -101,7 +101,7 @@ class ReflectanceField {
   // its own lists, applied afterwards by applySummaryChanges.
   class SliceWriter {
    public:
-    void hit(int slot) {
+    __attribute__((always_inline)) void hit(int slot) {
       int8_t& v = bins_[slot];
       const int old = v;
       const int updated = old + hit_step_ > max_ ? max_ : old + hit_step_;
@@ -115,7 +115,7 @@ class ReflectanceField {
         change(slot, old <= 0 && updated > 0, old < 0 && updated >= 0 ? -1 : 0);
       }
     }
-    void miss(int slot) {
+    __attribute__((always_inline)) void miss(int slot) {
       int8_t& v = bins_[slot];
       const int old = v;
       const int updated = old + miss_step_ < min_ ? min_ : old + miss_step_;
