@@ -18,8 +18,9 @@ class RollingWindow {
   int tilesPerSide() const { return tiles_per_side_; }
   int sizeCells() const { return tiles_per_side_ * tile_cells_; }
   const TileIndex& originTile() const { return origin_tile_; }
-  CellBox box() const;
-  bool contains(const CellIndex& cell) const { return box().contains(cell); }
+  // Cells of the window now (kept with the origin: class lookups test it for every cell).
+  const CellBox& box() const { return box_; }
+  bool contains(const CellIndex& cell) const { return box_.contains(cell); }
 
   int storageCoordinate(int cell) const { return positiveMod(cell, sizeCells()); }
   // Storage is tile-major: the cells of one tile are contiguous (row-major inside the tile), so
@@ -103,6 +104,7 @@ class RollingWindow {
   int tile_mask_;
   int tiles_per_side_;
   TileIndex origin_tile_{0, 0};
+  CellBox box_;
   // The cell at index 0 of the offset tables, which span four windows: the box maps into the
   // middle two, a window from either end. Set with the origin (setOrigin).
   CellIndex offset_origin_;
