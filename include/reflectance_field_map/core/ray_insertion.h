@@ -49,8 +49,8 @@ class alignas(64) DeduplicatingRayInserter {
   uint16_t nextStamp();
 
   // Two bytes per slot: the stamps are cleared every 65535 groups. With one byte they were
-  // cleared every 255 groups (about two scans), which for the batch's window of the whole
-  // recording wrote more memory than the sweeps did.
+  // cleared every 255 groups (about two scans): for the batch's window of the whole recording
+  // (590 k slots on curved glass), 3 % of its instructions.
   std::vector<uint16_t> stamps_;
   uint16_t stamp_ = 0;
   size_t updates_ = 0;
