@@ -117,6 +117,32 @@ TEST(ScanInserter, UpdatesMatchAlgorithmOneRayByRayOnRandomScans) {
   }
 }
 
+TEST(ScanInserter, StampsFromBeforeTheirWrapAroundAreNotTakenForNewOnes) {
+  // Each group (a scan's rays of one theta bin) takes the next 16-bit stamp. A ray's cells left
+  // untouched for exactly 65535 groups meet the same stamp value again after the wrap: unless
+  // the stamps were cleared, its end cell looks done already and gets no update.
+  ReflectanceField field = testing::centredField(6.0);
+  ScanInserter inserter;
+  const std::vector<Ray> probe = {makeRay({0.01, 0.02}, {1.01, 0.02}, true)};
+  auto far_rays = [](int count, double spacing) {  // one ray per bin for spacing 2 deg
+    std::vector<Ray> rays;
+    for (int k = 0; k < count; ++k) {
+      const double angle = (k + 0.5) * spacing;
+      rays.push_back(makeRay({2.5, 2.5}, {2.5 + 0.5 * std::cos(angle), 2.5 + 0.5 * std::sin(angle)},
+                             true, static_cast<uint32_t>(k)));
+    }
+    return rays;
+  };
+  std::vector<BinUpdate> first, updates;
+  inserter.collectUpdates(probe, field, first);  // stamp 1
+  const std::vector<Ray> all_bins = far_rays(180, kTwoPi / 180);
+  for (int scan = 0; scan < 364; ++scan)  // 65520 groups
+    inserter.collectUpdates(all_bins, field, updates);
+  inserter.collectUpdates(far_rays(14, kTwoPi / 180), field, updates);  // 65534
+  inserter.collectUpdates(probe, field, updates);                       // stamp 1 again
+  EXPECT_EQ(updates, first);
+}
+
 TEST(ScanInserter, RaysLeavingTheWindowKeepMissesAndLoseTheirHit) {
   Fixture f;
   const CellBox box = f.field.activeBox();
