@@ -272,6 +272,23 @@ TEST(ReflectanceField, ContradictedBinsAreFormerlyReflectiveBinsNowSeenThrough) 
   EXPECT_EQ(contradicted(person), 0);
 }
 
+TEST(ReflectanceField, ClearPutsEveryBinBackAtThePrior) {
+  ReflectanceField field = smallField();
+  const CellIndex cell(3, 4);
+  for (int bin : {0, 90, 179}) {
+    field.applyHit(cell, bin);
+    field.applyMiss({5, 4}, bin);
+  }
+  field.clear();
+  field.recenter({0.0, 0.0});  // a cleared field is placed afresh
+  for (int bin = 0; bin < 180; ++bin) {
+    EXPECT_EQ(field.value(cell, bin), 0) << bin;
+    EXPECT_EQ(field.value({5, 4}, bin), 0) << bin;
+  }
+  EXPECT_EQ(field.reflectiveBins(cell), 0);
+  EXPECT_EQ(field.missedBins({5, 4}), 0);
+}
+
 TEST(ReflectanceField, SummariesMatchBinsAfterRandomUpdates) {
   ReflectanceField field = smallField();
   std::mt19937 rng(5);

@@ -53,10 +53,26 @@ struct FanRay {
   int row_low, row_high;  // rows between the start and end cells
 };
 
+// Minor coordinate where the ray crosses the far edge of column i, tie bias applied, unclamped:
+// exitRow is its floor, clamped to the ray's rows.
+inline int64_t rawExit(const FanRay& ray, int column) {
+  return ray.first_exit + column * ray.per_column - ray.tie_bias;
+}
+
+// A visit to a cell of the joined columns: once(slot) where the sweep knows it is the cell's only
+// visit (see visitCellsOfRays), else the visitor's stamped visit.
+template <bool kJoinedOnce, typename Visit>
+__attribute__((always_inline)) inline void visitJoinedCell(Visit& visit, int slot) {
+  if constexpr (kJoinedOnce) {
+    visit.once(slot);
+  } else {
+    visit(slot);
+  }
+}
+
 // Row in which the ray leaves column i < columns.
 inline int exitRow(const FanRay& ray, int column) {
-  const int64_t minor = ray.first_exit + column * ray.per_column - ray.tie_bias;
-  const int row = static_cast<int>(minor >> kFractionBits);  // arithmetic shift: floor
+  const int row = static_cast<int>(rawExit(ray, column) >> kFractionBits);  // arithmetic: floor
   return std::min(std::max(row, ray.row_low), ray.row_high);
 }
 
@@ -70,12 +86,6 @@ inline int columnsJoined(const FanRay& a, const FanRay& b) {
   if (spread == 0) return std::numeric_limits<int>::max();
   return static_cast<int>(
       std::min<int64_t>((kLimit - 1 - apart) / spread + 1, std::numeric_limits<int>::max()));
-}
-
-// Minor coordinate where the ray crosses the far edge of column i, tie bias applied, unclamped:
-// exitRow is its floor, clamped to the ray's rows.
-inline int64_t rawExit(const FanRay& ray, int column) {
-  return ray.first_exit + column * ray.per_column - ray.tie_bias;
 }
 
 // Joined columns [begin, end) (begin > 0) in a simpler form, where it holds: every column's run
@@ -129,13 +139,8 @@ __attribute__((always_inline)) inline void sweepJoinedRun(const int* columns, in
   for (; count > 0; --count, columns += step) {
     const int column_offset = *columns;
     const int* const run_end = rows + (run.high >> kFractionBits);
-    for (const int* row = rows + (run.low >> kFractionBits); row <= run_end; ++row) {
-      if constexpr (kJoinedOnce) {
-        visit.once(column_offset + *row);
-      } else {
-        visit(column_offset + *row);
-      }
-    }
+    for (const int* row = rows + (run.low >> kFractionBits); row <= run_end; ++row)
+      visitJoinedCell<kJoinedOnce>(visit, column_offset + *row);
     run.low += run.low_step;
     run.high += run.high_step;
   }
@@ -162,13 +167,8 @@ __attribute__((always_inline)) inline void sweepFan(int column0, int row0, int s
   // into visit_rows behind a flag, the sweep ran slower (paired ratio 1.24 -> 1.31).
   auto visit_joined_rows = [&](int low, int high) __attribute__((always_inline)) {
     const int column_offset = column_offsets[column_index];
-    for (int r = low + row_shift; r <= high + row_shift; ++r) {
-      if constexpr (kJoinedOnce) {
-        visit.once(column_offset + row_offsets[r]);
-      } else {
-        visit(column_offset + row_offsets[r]);
-      }
-    }
+    for (int r = low + row_shift; r <= high + row_shift; ++r)
+      visitJoinedCell<kJoinedOnce>(visit, column_offset + row_offsets[r]);
   };
   auto next_column = [&] { column_index += step; };
   auto entry_row = [row0](const FanRay& ray, int column) {
