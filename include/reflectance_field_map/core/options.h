@@ -65,7 +65,9 @@ struct OccupancyOptions {
   double alpha = 0.017453292519943295;  // rad (1 deg)
   // eq. 7: widely visible when sum over theta of odds * dtheta exceeds beta (odds-radians).
   // An unobserved cell sums to 2*pi (prior odds 1 everywhere), so beta must exceed that.
-  double beta = 30.0;
+  // 40: reflective over 62-70 deg at the clamp, wider than a person who stood still while the
+  // robot drove past (README, Results).
+  double beta = 40.0;
   // Glassy cells reflective over at least this angle are reported as metal (wider lobe).
   double metal_min_angle = 0.2792526803190927;  // rad (16 deg): glass lobes are narrower
   void validate() const;
@@ -113,9 +115,10 @@ struct ReflectionRemovalOptions {
   // neighbouring scans of a sensor (25 ms apart at 40 Hz) see nearly the same: those passes
   // insert every Nth scan of each sensor. The first (no glass known yet) every
   // `first_pass_scan_stride`th, the others every `search_pass_scan_stride`th; the last pass
-  // inserts and labels every scan. 1: every scan in every pass, as Alg. 3 reads.
-  int first_pass_scan_stride = 8;
-  int search_pass_scan_stride = 2;
+  // inserts and labels every scan. 1: every scan in every pass, as Alg. 3 reads. Glass returns
+  // only near its normal: sparser than every 3rd scan, the second pass misses panes.
+  int first_pass_scan_stride = 16;
+  int search_pass_scan_stride = 3;
   // Free stretches of a glass line, never faced, up to this long between structure are glass
   // (GlassCompletion; 0: off).
   double glass_completion_max_gap = 2.0;  // m
