@@ -491,6 +491,7 @@ std::vector<RayLabel> Mapper::labelScan(const TimedScan& scan, bool final_map) c
   std::vector<double> through;
   if (check_reflections) {
     const CellBox box = field_.activeBox();
+    checked.reserve(rays.size());  // grown one by one, it reallocated ten times a scan
     for (const Ray& ray : rays) {
       Ray inside = ray;
       if (ray.hit && clipRayToBox(box, field_.geometry().resolution(), inside)) {
