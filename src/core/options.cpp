@@ -59,6 +59,7 @@ void OccupancyOptions::validate() const {
   requireRange("alpha", alpha, 0.0, kTwoPi);
   // Unobserved bins have odds 1, so any cell sums to about 2*pi: beta must lie above that.
   requireRange("beta", beta, kTwoPi, 10000.0, true);
+  requireRange("batch_beta", batch_beta, kTwoPi, 10000.0, true);
   requireRange("metal_min_angle", metal_min_angle, 0.0, kTwoPi);
 }
 
@@ -155,6 +156,10 @@ const std::vector<FieldAccess>& accessTable() {
        {}},
       {{"beta", "eq. 7: min marginal odds of a widely visible cell (rad)", T::kDouble},
        [](MapperOptions& o) -> double& { return o.occupancy.beta; },
+       {},
+       {}},
+      {{"batch_beta", "batch: eq. 7 threshold of the offline tool (rad)", T::kDouble},
+       [](MapperOptions& o) -> double& { return o.occupancy.batch_beta; },
        {},
        {}},
       {{"metal_min_angle", "min reflective angle of metal (rad)", T::kDouble},

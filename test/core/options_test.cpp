@@ -27,6 +27,7 @@ TEST(MapperOptions, EveryBadValueIsRejectedNamingTheField) {
       {"active_region_radius", {0.0, -3.0, 1000.0, 1.2}},
       {"alpha", {-0.1, 7.0}},
       {"beta", {0.0, 6.0, -1.0}},
+      {"batch_beta", {0.0, 6.0, -1.0, 20000.0}},
       {"metal_min_angle", {-1.0, 7.0}},
       {"motion_removal_rate", {0.0, -2.0, 1000.0}},
       {"persistence_time", {-1.0, 1e7}},

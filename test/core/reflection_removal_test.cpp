@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 namespace rfm {
 namespace {
 
@@ -144,6 +146,24 @@ TEST(ReflectionRemoval, EveryNthScanOfEachSensorKeepsEachSensorsOrder) {
   // Sensor 0 has scans 0, 2, 4, 6, 8 (its 0th and 3rd: 0 and 6); sensor 1 has 1, 3, ... (1, 7).
   EXPECT_EQ(indices, (std::vector<double>{0, 1, 6, 7}));
   EXPECT_EQ(everyNthScanOfEachSensor(scans, 1).size(), scans.size());
+}
+
+// The batch classifies with batch_beta, not the live beta: with a batch_beta no cell can reach,
+// nothing is widely visible, whatever beta says.
+TEST(ReflectionRemoval, BatchClassifiesWithBatchBeta) {
+  const std::vector<TimedScan> scans = paneWithWallBehind(1);
+  auto static_cells = [&](const MapperOptions& options) {
+    const GlobalMap2D map = processBatch(scans, options, BatchMode::kMotionRemoval).map;
+    std::vector<CellClass> classes;
+    map.extract(map.bounds(), classes);
+    return std::count(classes.begin(), classes.end(), CellClass::kStatic);
+  };
+  MapperOptions unreachable_batch_beta = testing::scenarioOptions();
+  unreachable_batch_beta.occupancy.batch_beta = 10000.0;
+  EXPECT_EQ(static_cells(unreachable_batch_beta), 0);
+  MapperOptions unreachable_beta = testing::scenarioOptions();
+  unreachable_beta.occupancy.beta = 10000.0;
+  EXPECT_GT(static_cells(unreachable_beta), 50);  // the wall, the frames
 }
 
 // The batch's passes before the last take every Nth scan of each sensor, the last every scan:

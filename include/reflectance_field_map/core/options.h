@@ -65,9 +65,12 @@ struct OccupancyOptions {
   double alpha = 0.017453292519943295;  // rad (1 deg)
   // eq. 7: widely visible when sum over theta of odds * dtheta exceeds beta (odds-radians).
   // An unobserved cell sums to 2*pi (prior odds 1 everywhere), so beta must exceed that.
-  // 40: reflective over 62-70 deg at the clamp, wider than a person who stood still while the
-  // robot drove past (README, Results).
-  double beta = 40.0;
+  double beta = 30.0;
+  // The offline batch's beta (processBatch). It classifies having seen the whole recording, so
+  // it can ask for more: 40 is reflective over 62-70 deg at the clamp, wider than a person who
+  // stood still while the robot drove past (README, Results). Live, `beta` anchors a frame
+  // glimpsed in passing sooner, and glass with it.
+  double batch_beta = 40.0;
   // Glassy cells reflective over at least this angle are reported as metal (wider lobe).
   double metal_min_angle = 0.2792526803190927;  // rad (16 deg): glass lobes are narrower
   void validate() const;
