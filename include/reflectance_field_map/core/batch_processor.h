@@ -43,7 +43,8 @@ std::vector<TimedScan> everyNthScanOfEachSensor(const std::vector<TimedScan>& sc
 // iterative reflection removal over the final field and labels every beam against the final
 // map. Alg. 3's passes before the last take every Nth scan of each sensor (the options'
 // first_pass_scan_stride and search_pass_scan_stride); the last takes every scan. Uses the
-// same Mapper code as the live node. `progress(done, total)` may be empty.
+// same Mapper code as the live node, with OccupancyOptions::batch_beta in place of beta.
+// `progress(done, total)` may be empty.
 // `inspect_field`, when set, sees the final reflectance field (e.g. for theta-resolved pictures).
 // Throws std::invalid_argument when the recording is too large for one window
 // (ActiveRegionOptions::kMaxWindowRadius).
