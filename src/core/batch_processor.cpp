@@ -174,8 +174,8 @@ BatchResult processBatch(const std::vector<TimedScan>& input, const MapperOption
   // The mode switches stages off; it never switches on one the options disabled.
   options.motion_removal.motion_removal_enabled &= mode != BatchMode::kBasicRfm;
   options.reflection_removal.reflection_removal_enabled &= mode == BatchMode::kFull;
-  options.reflection_removal.scan_buffer_size = 0;       // batch re-processes every scan instead
-  options.reflection_removal.clearance_block_shift = 0;  // rebuilt once per pass only
+  options.reflection_removal.scan_buffer_size = 0;        // batch re-processes every scan instead
+  options.reflection_removal.clearance_block_shift = 0;   // rebuilt once per pass only
   options.occupancy.beta = options.occupancy.batch_beta;  // classifies the whole recording seen
   options.active_region.window_radius = extent.half_side + options.grid.resolution;
   const std::vector<TimedScan> scans = centredOn(input, extent.centre);
