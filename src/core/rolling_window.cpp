@@ -19,11 +19,10 @@ RollingWindow::RollingWindow(int tile_cells, int tiles_per_side)
 
 void RollingWindow::setOrigin(const TileIndex& origin_tile) {
   origin_tile_ = origin_tile;
-  box_ = {origin_tile_ * tile_cells_,
-          (origin_tile_ + TileIndex(tiles_per_side_, tiles_per_side_)) * tile_cells_};
   const CellIndex first = origin_tile * tile_cells_;
-  // A multiple of the window size, one window below the one holding the box's first cell.
   const int size = sizeCells();
+  box_ = {first, first + CellIndex(size, size)};
+  // A multiple of the window size, one window below the one holding the box's first cell.
   offset_origin_ = {first.x() - storageCoordinate(first.x()) - size,
                     first.y() - storageCoordinate(first.y()) - size};
 }
