@@ -515,6 +515,15 @@ std::vector<RayLabel> Mapper::labelScan(const TimedScan& scan, bool final_map) c
   return labels;
 }
 
+std::vector<RayLabel> Mapper::labelAddedScan(const TimedScan& scan,
+                                             const ScanUpdate& update) const {
+  std::vector<RayLabel> labels = labelScan(scan);
+  for (size_t i = 0; i < labels.size() && i < update.labels.size(); ++i) {
+    if (update.labels[i] == RayLabel::kReflection) labels[i] = RayLabel::kReflection;
+  }
+  return labels;
+}
+
 std::vector<std::vector<RayLabel>> Mapper::labelScans(ScanIterator first, ScanIterator last,
                                                       bool final_map) const {
   std::vector<std::vector<RayLabel>> labels(last - first);

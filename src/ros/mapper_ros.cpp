@@ -273,11 +273,7 @@ void MapperRos::processScan(ScanInput& input, const sensor_msgs::LaserScanConstP
     }
     ++scans_since_motion_removal_;
     if (want_labels) {
-      labels = mapper_->labelScan(timed);
-      // The insertion saw the ray pass through known glass: a reflection whatever the map says.
-      for (size_t i = 0; i < labels.size() && i < update.labels.size(); ++i) {
-        if (update.labels[i] == rfm::RayLabel::kReflection) labels[i] = rfm::RayLabel::kReflection;
-      }
+      labels = mapper_->labelAddedScan(timed, update);
     }
   }
   input.last_stamp = std::max(input.last_stamp, msg->header.stamp);

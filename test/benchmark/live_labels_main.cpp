@@ -2,10 +2,10 @@
 //
 //   rfm_live_labels IN.bag OUT_labels.bag [PARAMS.yaml]
 //
-// The node's per-scan path (MapperRos::scanCallback): addScan, then labelScan against the map so
-// far with the insertion's REFLECTION kept, and removeMotion every 1 / motion_removal_rate s of
-// the scans' clock. Each beam is judged when its scan arrives, as AMCL or a costmap would see
-// the filtered scan, not against the final map as rfm_offline does.
+// The node's per-scan path (MapperRos::scanCallback): addScan, then labelAddedScan against the
+// map so far, and removeMotion every 1 / motion_removal_rate s of the scans' clock. Each beam is
+// judged when its scan arrives, as AMCL or a costmap would see the filtered scan, not against the
+// final map as rfm_offline does.
 #include "reflectance_field_map/core/mapper.h"
 #include "reflectance_field_map/offline/bag_input.h"
 #include "reflectance_field_map/offline/outputs.h"
@@ -32,11 +32,7 @@ int main(int argc, char** argv) {
     std::vector<std::vector<rfm::RayLabel>> labels;
     labels.reserve(scans.scans.size());
     for (const rfm::TimedScan& scan : scans.scans) {
-      const rfm::ScanUpdate update = mapper.addScan(scan);
-      labels.push_back(mapper.labelScan(scan));
-      for (size_t i = 0; i < update.labels.size(); ++i) {
-        if (update.labels[i] == rfm::RayLabel::kReflection) labels.back()[i] = update.labels[i];
-      }
+      labels.push_back(mapper.labelAddedScan(scan, mapper.addScan(scan)));
       if (scan.stamp - last_motion_removal >= motion_removal_period) {
         mapper.removeMotion();
         last_motion_removal = scan.stamp;

@@ -341,12 +341,27 @@ TEST(ReflectionRemoval, OnlineScansThroughKnownGlassAreReflections) {
   world.addWall({4.0, -6.0}, {4.0, 6.0});
   Mapper mapper(testing::scenarioOptions());
   runScenario(mapper, world, driveBy({0.0, -4.0}, {0.0, 4.0}, kPi / 2));
-  const ScanUpdate update = mapper.addScan(world.timedScan({{0.0, 0.0}, 0.0}));
+  const TimedScan scan = world.timedScan({{0.0, 0.0}, 0.0});
+  const ScanUpdate update = mapper.addScan(scan);
   size_t reflections = 0;
   for (RayLabel l : update.labels)
     reflections += l == RayLabel::kReflection;
   EXPECT_GT(reflections, 100u);
   EXPECT_GT(mapper.stats().reflection_rays, 0u);
+  // The labels the node publishes keep every beam the insertion cut, whatever the map says, and
+  // judge the others against the map. A beam the map keeps, marked cut, shows the first part.
+  const std::vector<RayLabel> by_map = mapper.labelScan(scan);
+  ScanUpdate cut = update;
+  const auto kept = std::find(by_map.begin(), by_map.end(), RayLabel::kKept);
+  ASSERT_NE(kept, by_map.end());
+  cut.labels[kept - by_map.begin()] = RayLabel::kReflection;
+  const std::vector<RayLabel> published = mapper.labelAddedScan(scan, cut);
+  ASSERT_EQ(published.size(), cut.labels.size());
+  for (size_t i = 0; i < published.size(); ++i) {
+    EXPECT_EQ(published[i],
+              cut.labels[i] == RayLabel::kReflection ? RayLabel::kReflection : by_map[i])
+        << "beam " << i;
+  }
 }
 
 }  // namespace

@@ -101,6 +101,9 @@ class Mapper {
   // did not survive (free or unknown) is removed as MOTION too; live, it is kept until motion
   // removal has judged it.
   std::vector<RayLabel> labelScan(const TimedScan& scan, bool final_map = false) const;
+  // labelScan of a scan just added (live), with `update` its addScan result: a beam the
+  // insertion cut at glass is REFLECTION whatever the map says now.
+  std::vector<RayLabel> labelAddedScan(const TimedScan& scan, const ScanUpdate& update) const;
   // labelScan of the scans [first, last), on the mapper's threads.
   std::vector<std::vector<RayLabel>> labelScans(ScanIterator first, ScanIterator last,
                                                 bool final_map = false) const;
