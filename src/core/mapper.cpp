@@ -53,6 +53,59 @@ double leapPerCell(const Eigen::Vector2d& direction, double resolution) {
   return resolution / direction.cwiseAbs().maxCoeff();
 }
 
+// The first leaps of neighbouring beams of a scan, taken together: they diverge slowly, so while
+// they are close, one clearance lookup on the middle ray clears the stretch ahead of all of them.
+// At distance d along each ray, a ray's point lies within d * spread of the middle ray's
+// (Chebyshev); a leap of l moves it at most l * fastest further; and a clearance of c about the
+// middle ray's point frees (c - 1) cells around it (ClearanceMap).
+class SharedLeap {
+ public:
+  // For the rays [begin, end) that have cells to check; false (and reached() 0) unless there
+  // are two or more, all from one origin.
+  bool start(const Ray* rays, const std::optional<PassThroughDetector>* detectors, int begin,
+             int end) {
+    along_ = 0.0;
+    stop_ = std::numeric_limits<double>::infinity();
+    int members = 0;
+    const int middle = (begin + end) / 2;
+    origin_ = rays[middle].origin;
+    middle_ = detectors[middle]->direction();
+    spread_ = 0.0;
+    fastest_ = 0.0;
+    for (int i = begin; i < end; ++i) {
+      const PassThroughDetector& detector = *detectors[i];
+      if (detector.lastCandidate() <= 0.0) continue;  // nothing to check on it
+      if (rays[i].origin != origin_) return fail();
+      spread_ = std::max(spread_, (detector.direction() - middle_).cwiseAbs().maxCoeff());
+      fastest_ = std::max(fastest_, detector.direction().cwiseAbs().maxCoeff());
+      stop_ = std::min(stop_, detector.lastCandidate());
+      ++members;
+    }
+    return members >= 2 || fail();
+  }
+  // One leap; false once the group can leap no further.
+  bool leap(const ClearanceMap& clearance, const GridGeometry& geometry) {
+    const int clear = clearance.at(geometry.cellOf(origin_ + middle_ * along_));
+    const double resolution = geometry.resolution();
+    const double length = ((clear - 1) * resolution - along_ * spread_) / fastest_;
+    if (clear < 2 || length < resolution) return false;
+    along_ += length;
+    return along_ < stop_;
+  }
+  // Distance (m, the same along each ray) up to which no ray of the group meets a cell within
+  // one of a blocking cell; at most the first of their last candidates.
+  double reached() const { return std::min(along_, stop_); }
+
+ private:
+  bool fail() {
+    along_ = 0.0;
+    stop_ = 0.0;
+    return false;
+  }
+  Eigen::Vector2d origin_, middle_;
+  double spread_ = 0.0, fastest_ = 0.0, stop_ = 0.0, along_ = 0.0;
+};
+
 }  // namespace
 
 // A scan as inserted, kept for online re-processing when new glass appears.
@@ -557,30 +610,54 @@ void Mapper::passThroughDistances(const Ray* rays, size_t count, double* distanc
   const double tolerance = options_.reflection_removal.penetration_tolerance;
   const ClearanceMap& clearance = impl_->clearance;
   // Most of a check is its first leaps over empty cells, and each leap waits for the clearance
-  // lookup of the one before: several rays leap side by side, so their lookups overlap. Each
-  // then goes on alone from where its leaps stopped, exactly as it would have on its own.
-  constexpr int kSideBySide = 8;
+  // lookup of the one before: rays leap side by side, so their lookups overlap. Neighbouring
+  // beams first leap together (SharedLeap). Each ray then goes on alone from where its leaps
+  // stopped, exactly as it would have on its own: leaps pass only cells that cannot block.
+  constexpr int kTogether = 8;  // neighbouring rays sharing their first leaps
+  constexpr int kSideBySide = 64;
+  constexpr int kGroups = kSideBySide / kTogether;
   std::optional<PassThroughDetector> detectors[kSideBySide];
   double from[kSideBySide];       // m along each ray where its walk starts
   double leap_unit[kSideBySide];  // m per leap of one cell
   int leaping[kSideBySide];
+  SharedLeap groups[kGroups];
+  int leaping_groups[kGroups];
   for (size_t first = 0; first < count; first += kSideBySide) {
+    const Ray* const block = rays + first;
     const int n = static_cast<int>(std::min<size_t>(kSideBySide, count - first));
-    int active = 0;
     for (int i = 0; i < n; ++i) {
-      const PassThroughDetector& detector =
-          detectors[i].emplace(rays[first + i], geometry, tolerance);
+      const PassThroughDetector& detector = detectors[i].emplace(block[i], geometry, tolerance);
       from[i] = 0.0;
       leap_unit[i] = leapPerCell(detector.direction(), resolution);
-      // Cells within the tolerance of the end never decide: walks stop there.
-      if (detector.lastCandidate() > 0.0) leaping[active++] = i;
+    }
+    int active = 0;
+    for (int g = 0; g * kTogether < n; ++g) {
+      const int end = std::min(n, (g + 1) * kTogether);
+      if (groups[g].start(block, detectors, g * kTogether, end)) leaping_groups[active++] = g;
+    }
+    while (active > 0) {
+      int still_leaping = 0;
+      for (int a = 0; a < active; ++a) {
+        const int g = leaping_groups[a];
+        if (groups[g].leap(clearance, geometry)) leaping_groups[still_leaping++] = g;
+      }
+      active = still_leaping;
+    }
+    for (int g = 0; g * kTogether < n; ++g) {
+      for (int i = g * kTogether; i < std::min(n, (g + 1) * kTogether); ++i)
+        from[i] = groups[g].reached();
+    }
+    // Cells within the tolerance of the end never decide: walks stop there.
+    active = 0;
+    for (int i = 0; i < n; ++i) {
+      if (from[i] < detectors[i]->lastCandidate()) leaping[active++] = i;
     }
     while (active > 0) {
       int still_leaping = 0;
       for (int a = 0; a < active; ++a) {
         const int i = leaping[a];
         const PassThroughDetector& detector = *detectors[i];
-        const Eigen::Vector2d at = rays[first + i].origin + detector.direction() * from[i];
+        const Eigen::Vector2d at = block[i].origin + detector.direction() * from[i];
         const int clear = clearance.at(geometry.cellOf(at));
         if (clear < 2) continue;  // next to structure: the walk takes over
         from[i] += (clear - 1) * leap_unit[i];
@@ -591,10 +668,9 @@ void Mapper::passThroughDistances(const Ray* rays, size_t count, double* distanc
     for (int i = 0; i < n; ++i) {
       PassThroughDetector& detector = *detectors[i];
       // Leaped past the last candidate (or none to check): nothing blocks, no walk to set up.
-      distances[first + i] =
-          from[i] < detector.lastCandidate()
-              ? walkTowardsGlass(rays[first + i], detector, from[i], leap_unit[i])
-              : detector.distance();
+      distances[first + i] = from[i] < detector.lastCandidate()
+                                 ? walkTowardsGlass(block[i], detector, from[i], leap_unit[i])
+                                 : detector.distance();
     }
   }
 }
