@@ -1,11 +1,14 @@
 #include "reflectance_field_map/core/batch_processor.h"
 #include "reflectance_field_map/core/ray_classification.h"
+#include "reflectance_field_map/core/shared_leap.h"
 
 #include "scenario.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <optional>
 
 namespace rfm {
 namespace {
@@ -362,6 +365,95 @@ TEST(ReflectionRemoval, OnlineScansThroughKnownGlassAreReflections) {
               cut.labels[i] == RayLabel::kReflection ? RayLabel::kReflection : by_map[i])
         << "beam " << i;
   }
+}
+
+// Eight neighbouring beams leap together on the middle one's clearance: the fan widens with
+// distance, so the group must stop before the outermost beam reaches a blocking cell that the
+// middle beam passes three cells away.
+TEST(SharedLeap, StopsBeforeAnyRayOfTheGroupPassesABlockingCell) {
+  const GridGeometry g(0.05, 180);
+  const Eigen::Vector2d origin(0.01, 0.01);
+  Ray rays[8];
+  std::optional<PassThroughDetector> detectors[8];
+  for (int i = 0; i < 8; ++i) {
+    rays[i].origin = origin;
+    rays[i].angle = (-0.875 + 0.25 * i) * kPi / 180.0;
+    rays[i].end = origin + 12.0 * Eigen::Vector2d(std::cos(rays[i].angle), std::sin(rays[i].angle));
+    rays[i].hit = true;
+    detectors[i].emplace(rays[i], g, 0.15);
+  }
+  // One blocking cell on the outermost beam, 10 m out.
+  const CellIndex blocker = g.cellOf(origin + 10.0 * detectors[7]->direction());
+  const CellBox box{{-20, -100}, {300, 100}};
+  ClearanceMap clearance(0);
+  clearance.compute(box, [&](int dx, int dy) { return box.min + CellIndex(dx, dy) != blocker; });
+
+  SharedLeap group;
+  ASSERT_TRUE(group.start(rays, detectors, 0, 8));
+  while (group.leap(clearance, g)) {
+  }
+  // Far out, clear of the blocker, on every beam: the leaps pass no blocking cell.
+  EXPECT_GT(group.reached(), 5.0);
+  for (int i = 0; i < 8; ++i) {
+    forEachCellOnRayWhile(origin, origin + group.reached() * detectors[i]->direction(),
+                          g.inverseResolution(), [&](const CellIndex& cell) {
+                            EXPECT_NE(cell, blocker) << "ray " << i;
+                            return true;
+                          });
+  }
+  // Without it the group leaps on to the last candidate.
+  ClearanceMap open(0);
+  open.compute(box, [](int, int) { return true; });
+  ASSERT_TRUE(group.start(rays, detectors, 0, 8));
+  while (group.leap(open, g)) {
+  }
+  EXPECT_DOUBLE_EQ(group.reached(), 12.0 - 0.15);
+  // Rays from different origins share nothing.
+  rays[3].origin.x() += 0.01;
+  EXPECT_FALSE(group.start(rays, detectors, 0, 8));
+  EXPECT_EQ(group.reached(), 0.0);
+}
+
+// The mapper's reflection check leaps over cells that cannot block, neighbouring beams first
+// together (their fan widens with distance): it must decide every beam as a walk over every cell
+// would. Scans from around a pane's end, near and far, put fans across the pane's edge.
+TEST(ReflectionRemoval, LeapingCheckDecidesEveryBeamAsAFullWalk) {
+  SyntheticWorld world;
+  world.addFramedPane({2.0, -3.0}, {2.0, 3.0});
+  world.addWall({4.0, -6.0}, {4.0, 6.0});
+  Mapper mapper(testing::scenarioOptions());
+  runScenario(mapper, world, driveBy({0.0, -4.0}, {0.0, 4.0}, kPi / 2));
+  mapper.removeMotion();
+  const GridGeometry& g = mapper.field().geometry();
+  const int bins = g.thetaBins();
+  const double tolerance = testing::scenarioOptions().reflection_removal.penetration_tolerance;
+  auto class_of = [&](const CellIndex& c) { return mapper.cellClass(c); };
+  // As the mapper: reflective in the ray's bin or one either side.
+  auto reflective_near = [&](const CellIndex& c, int bin) {
+    const uint64_t* mask = mapper.field().reflectiveMask(c);
+    return maskBit(mask, bin) || maskBit(mask, (bin + 1) % bins) ||
+           maskBit(mask, (bin + bins - 1) % bins);
+  };
+  size_t reflections = 0, beams = 0;
+  for (const Pose2D& robot : {Pose2D{{0.0, 2.0}, 0.3}, Pose2D{{0.0, 4.5}, -0.6},
+                              Pose2D{{-1.5, 3.0}, 0.0}, Pose2D{{1.0, 5.0}, -1.1}}) {
+    const TimedScan scan = world.timedScan(robot);
+    const std::vector<RayLabel> labels = mapper.labelScan(scan);
+    std::vector<Ray> rays;
+    scanToRays(scan.scan, scan.sensor_pose, testing::scenarioOptions().insertion, rays);
+    for (const Ray& ray : rays) {
+      if (!ray.hit) continue;
+      const bool through =
+          firstPassThroughDistance(ray, g, tolerance, class_of, reflective_near) >= 0.0;
+      EXPECT_EQ(labels[ray.beam] == RayLabel::kReflection, through)
+          << "beam " << ray.beam << " from (" << robot.position.transpose() << ")";
+      reflections += through;
+      ++beams;
+    }
+  }
+  // Both kinds of beam occur: the wall seen through the pane and around its end.
+  EXPECT_GT(reflections, 100u);
+  EXPECT_GT(beams - reflections, 100u);
 }
 
 }  // namespace
