@@ -46,14 +46,15 @@ class SharedLeap {
   // One leap; false once the group can leap no further.
   bool leap(const ClearanceMap& clearance, const GridGeometry& geometry) {
     const int clear = clearance.at(geometry.cellOf(origin_ + middle_ * along_));
+    if (clear < 2) return false;  // next to structure: the rays go on alone
     const double resolution = geometry.resolution();
     const double length = ((clear - 1) * resolution - along_ * spread_) / fastest_;
-    if (clear < 2 || length < resolution) return false;
+    if (length < resolution) return false;  // too wide apart to gain on leaping alone
     along_ += length;
     return along_ < stop_;
   }
-  // Distance (m, the same along each ray) up to which no ray of the group meets a cell within
-  // one of a blocking cell; at most the first of their last candidates.
+  // Distance (m, the same along each ray) up to which no ray of the group passes a blocking
+  // cell; at most the first of their last candidates.
   double reached() const { return std::min(along_, stop_); }
 
  private:
