@@ -575,7 +575,6 @@ void Mapper::passThroughDistances(const Ray* rays, size_t count, double* distanc
     const int n = static_cast<int>(std::min<size_t>(kSideBySide, count - first));
     for (int i = 0; i < n; ++i) {
       const PassThroughDetector& detector = detectors[i].emplace(block[i], geometry, tolerance);
-      from[i] = 0.0;
       leap_unit[i] = leapPerCell(detector.direction(), resolution);
     }
     int active = 0;
@@ -591,13 +590,10 @@ void Mapper::passThroughDistances(const Ray* rays, size_t count, double* distanc
       }
       active = still_leaping;
     }
-    for (int g = 0; g * kTogether < n; ++g) {
-      for (int i = g * kTogether; i < std::min(n, (g + 1) * kTogether); ++i)
-        from[i] = groups[g].reached();
-    }
     // Cells within the tolerance of the end never decide: walks stop there.
     active = 0;
     for (int i = 0; i < n; ++i) {
+      from[i] = groups[i / kTogether].reached();
       if (from[i] < detectors[i]->lastCandidate()) leaping[active++] = i;
     }
     while (active > 0) {
@@ -653,12 +649,8 @@ double Mapper::walkTowardsGlass(const Ray& ray, PassThroughDetector& detector, d
         [&](int slot, int x, int y) {
           const CellClass c = impl_->classes[slot];
           auto reflective_near = [&](int bin) {
-            const uint64_t* mask =
-                frozen.active() ? frozen.maskOf({x, y}) : field_.reflectiveMaskAt(slot);
-            // One bin either side: a wall grazed at a shallow angle is hit in neighbouring
-            // directions.
-            return mask && (maskBit(mask, bin) || maskBit(mask, (bin + 1) % bins) ||
-                            maskBit(mask, (bin + bins - 1) % bins));
+            return reflectiveNear(
+                frozen.active() ? frozen.maskOf({x, y}) : field_.reflectiveMaskAt(slot), bin, bins);
           };
           if (!blocksRays(c)) {
             if (detector.blocked()) return detector.visit({x, y}, c, reflective_near, class_of);

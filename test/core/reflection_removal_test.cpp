@@ -17,6 +17,7 @@ using testing::driveBy;
 using testing::fractionAlong;
 using testing::Material;
 using testing::runScenario;
+using testing::ScenarioStep;
 using testing::SyntheticWorld;
 
 struct LabelCounts {
@@ -80,14 +81,23 @@ TEST(FirstPassThroughDistance, StopsWhereTheRayCrossesGlassOrAStaticSurface) {
   EXPECT_LT(firstPassThroughDistance(ray, g, 0.15, pane_ending_here, never), 0.0);
 }
 
-// A robot driving 8 m along a glass pane 2 m away with a wall 2 m behind it, facing the pane;
-// `sensors` lidars take turns, each at 40 Hz.
-std::vector<TimedScan> paneWithWallBehind(int sensors) {
+// A framed glass pane 2 m from the line x = 0 with a wall 2 m behind it, and the robot's drive
+// along that line facing the pane, 8 m long.
+SyntheticWorld paneWithWallBehindWorld() {
   SyntheticWorld world;
   world.addFramedPane({2.0, -3.0}, {2.0, 3.0});
   world.addWall({4.0, -6.0}, {4.0, 6.0});
+  return world;
+}
+std::vector<ScenarioStep> driveAlongThePane() {
+  return driveBy({0.0, -4.0}, {0.0, 4.0}, kPi / 2);
+}
+
+// The scans of the drive along the pane; `sensors` lidars take turns, each at 40 Hz.
+std::vector<TimedScan> paneWithWallBehind(int sensors) {
+  const SyntheticWorld world = paneWithWallBehindWorld();
   std::vector<TimedScan> scans;
-  for (const auto& step : driveBy({0.0, -4.0}, {0.0, 4.0}, kPi / 2)) {
+  for (const auto& step : driveAlongThePane()) {
     scans.push_back(world.timedScan(step.robot, 0.025 / sensors * scans.size()));
     scans.back().sensor_id = static_cast<uint32_t>(scans.size() % sensors);
   }
@@ -339,11 +349,9 @@ TEST(ReflectionRemoval, GlassNeverFacedOnAFacadeLineIsCompleted) {
 
 // Online: the live mapper labels rays through glass it already knows as reflections at insertion.
 TEST(ReflectionRemoval, OnlineScansThroughKnownGlassAreReflections) {
-  SyntheticWorld world;
-  world.addFramedPane({2.0, -3.0}, {2.0, 3.0});
-  world.addWall({4.0, -6.0}, {4.0, 6.0});
+  SyntheticWorld world = paneWithWallBehindWorld();
   Mapper mapper(testing::scenarioOptions());
-  runScenario(mapper, world, driveBy({0.0, -4.0}, {0.0, 4.0}, kPi / 2));
+  runScenario(mapper, world, driveAlongThePane());
   const TimedScan scan = world.timedScan({{0.0, 0.0}, 0.0});
   const ScanUpdate update = mapper.addScan(scan);
   size_t reflections = 0;
@@ -418,21 +426,16 @@ TEST(SharedLeap, StopsBeforeAnyRayOfTheGroupPassesABlockingCell) {
 // together (their fan widens with distance): it must decide every beam as a walk over every cell
 // would. Scans from around a pane's end, near and far, put fans across the pane's edge.
 TEST(ReflectionRemoval, LeapingCheckDecidesEveryBeamAsAFullWalk) {
-  SyntheticWorld world;
-  world.addFramedPane({2.0, -3.0}, {2.0, 3.0});
-  world.addWall({4.0, -6.0}, {4.0, 6.0});
+  SyntheticWorld world = paneWithWallBehindWorld();
   Mapper mapper(testing::scenarioOptions());
-  runScenario(mapper, world, driveBy({0.0, -4.0}, {0.0, 4.0}, kPi / 2));
+  runScenario(mapper, world, driveAlongThePane());
   mapper.removeMotion();
   const GridGeometry& g = mapper.field().geometry();
   const int bins = g.thetaBins();
   const double tolerance = testing::scenarioOptions().reflection_removal.penetration_tolerance;
   auto class_of = [&](const CellIndex& c) { return mapper.cellClass(c); };
-  // As the mapper: reflective in the ray's bin or one either side.
   auto reflective_near = [&](const CellIndex& c, int bin) {
-    const uint64_t* mask = mapper.field().reflectiveMask(c);
-    return maskBit(mask, bin) || maskBit(mask, (bin + 1) % bins) ||
-           maskBit(mask, (bin + bins - 1) % bins);
+    return reflectiveNear(mapper.field().reflectiveMask(c), bin, bins);
   };
   size_t reflections = 0, beams = 0;
   for (const Pose2D& robot : {Pose2D{{0.0, 2.0}, 0.3}, Pose2D{{0.0, 4.5}, -0.6},

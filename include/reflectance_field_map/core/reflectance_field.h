@@ -22,6 +22,13 @@ inline bool maskBit(const uint64_t* mask, int bin) {
   return (mask[bin >> 6] >> (bin & 63)) & 1u;
 }
 
+// Whether a mask (of `bins` bins, or null: nothing reflective) has bit `bin` or a neighbour set:
+// a wall grazed at a shallow angle is hit in neighbouring directions (the Alg. 3 check).
+inline bool reflectiveNear(const uint64_t* mask, int bin, int bins) {
+  return mask && (maskBit(mask, bin) || maskBit(mask, (bin + 1) % bins) ||
+                  maskBit(mask, (bin + bins - 1) % bins));
+}
+
 // Calls visit(bin) for every set bit of a mask of `words` words, in increasing order.
 template <typename Visit>
 void forEachMaskBit(const uint64_t* mask, int words, Visit&& visit) {
