@@ -187,18 +187,32 @@ __attribute__((always_inline)) inline void sweepFan(int column0, int row0, int s
     joined_with_previous[a] = columnsJoined(fan[active[a - 1]], fan[active[a]]);
   int column = 0;
   while (active_count > 0) {
+    if (drifted_apart) {
+      // Neighbours now cross column edges rows apart and share few cells: each ray walks its
+      // own columns to its end, with no runs to merge (a cell two rays share is visited twice).
+      for (int a = 0; a < active_count; ++a) {
+        const FanRay& ray = fan[active[a]];
+        int entry = entry_row(ray, column);
+        for (int c = column, index = column_index; c <= ray.columns; ++c, index += step) {
+          const int exit = c == ray.columns ? ray.end_row : exitRow(ray, c);
+          const int column_offset = column_offsets[index];
+          const int high = std::max(entry, exit) + row_shift;
+          for (int r = std::min(entry, exit) + row_shift; r <= high; ++r)
+            visit(column_offset + row_offsets[r]);
+          entry = exit;
+        }
+      }
+      return;
+    }
     // Until a ray ends or neighbours drift apart, the rays' cells in a column form one run,
     // bounded by the outermost two rays (slopes are monotone along the fan).
-    int joined_end = column;
-    if (!drifted_apart) {
-      int first_end = std::numeric_limits<int>::max(), joined = first_end;
-      for (int a = 0; a < active_count; ++a) {
-        first_end = std::min(first_end, fan[active[a]].columns);
-        if (a > 0) joined = std::min(joined, joined_with_previous[a]);
-      }
-      drifted_apart = joined < first_end;
-      joined_end = std::max(column, std::min(first_end, joined));
+    int first_end = std::numeric_limits<int>::max(), joined = first_end;
+    for (int a = 0; a < active_count; ++a) {
+      first_end = std::min(first_end, fan[active[a]].columns);
+      if (a > 0) joined = std::min(joined, joined_with_previous[a]);
     }
+    drifted_apart = joined < first_end;
+    const int joined_end = std::max(column, std::min(first_end, joined));
     if (column < joined_end) {
       const FanRay& first = fan[active[0]];
       const FanRay& last = fan[active[active_count - 1]];
@@ -226,8 +240,8 @@ __attribute__((always_inline)) inline void sweepFan(int column0, int row0, int s
       while (column < joined_end)
         visit_joined_column();
     }
-    // One column ray by ray (a ray ends in it, or they have drifted apart): each ray's rows,
-    // merged into runs as they come.
+    if (drifted_apart) continue;  // the rays walk alone from here
+    // One column ray by ray (a ray ends in it): each ray's rows, merged into runs as they come.
     int run_low = 0, run_high = -1;  // empty
     int still_active = 0;
     for (int a = 0; a < active_count; ++a) {
@@ -244,7 +258,7 @@ __attribute__((always_inline)) inline void sweepFan(int column0, int row0, int s
         run_high = high;
       }
       if (ray.columns > column) {
-        if (!drifted_apart && still_active > 0) {
+        if (still_active > 0) {
           // Neighbours as before, or new ones where the rays between them ended.
           joined_with_previous[still_active] =
               still_active == a ? joined_with_previous[a]
