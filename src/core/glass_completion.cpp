@@ -160,14 +160,26 @@ void GlassCompletion::extend(const ReflectanceField& field, const CellBox& box, 
   };
   // A facade of a few panes between mullions; the walk ends long before on anything else.
   const Eigen::Vector2d to = from + outward * (8.0 * max_gap_ + 1.0);
+  auto close_gap = [&] {
+    if (gap.empty()) return;
+    turn_to_glass(gap);
+    turn_to_glass(framing);
+  };
+  auto glass_at = [&](const CellIndex& cell) {
+    return box.contains(cell) && classes[index(cell)] == CellClass::kGlass;
+  };
   forEachCellOnRayWhile(from, to, geometry_.inverseResolution(), [&](const CellIndex& cell) {
     if (!box.contains(cell)) return false;
+    // More panes of the line, whether or not they make a run of their own: like a frame they
+    // close the gap before them, and however long they are the walk goes on past them.
+    if (glass_at(cell) || glass_at(cell + beside) || glass_at(cell - beside)) {
+      close_gap();
+      framing.clear();
+      structure = 0;
+      return true;
+    }
     if (structure_at(cell) || structure_at(cell + beside) || structure_at(cell - beside)) {
-      if (!gap.empty()) {
-        // Structure closes the gap before it.
-        turn_to_glass(gap);
-        turn_to_glass(framing);
-      }
+      close_gap();  // structure closes the gap before it
       if (structure == 0) framing.clear();
       for (const CellIndex& c : {CellIndex(cell - beside), cell, CellIndex(cell + beside)}) {
         if (box.contains(c) && classes[index(c)] == CellClass::kMotion) framing.push_back(index(c));

@@ -1,0 +1,77 @@
+#include "reflectance_field_map/core/glass_completion.h"
+
+#include "test_fields.h"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+namespace rfm {
+namespace {
+
+// A facade along y = 0 as motion removal leaves it (west to east): a wall, 1 m of free cells the
+// robot never faced, a mullion, a 0.75 m pane whose cells make no run of their own (the field
+// holds nothing for them), a mullion, and 1 m of glass that returned near its normal (bin 45,
+// 90 deg) and was missed from twelve other directions: a run.
+class FacadeLine : public ::testing::Test {
+ protected:
+  FacadeLine() : field_(testing::centredField(3.0)), box_(field_.activeBox()) {
+    classes_.assign(static_cast<size_t>(box_.width()) * box_.height(), CellClass::kFree);
+    set(-1.40, -1.35, CellClass::kStatic);  // wall
+    set(-0.35, -0.30, CellClass::kStatic);  // mullion
+    set(-0.30, 0.45, CellClass::kGlass);    // pane, no run
+    set(0.45, 0.50, CellClass::kStatic);    // mullion
+    set(0.50, 1.50, CellClass::kGlass);     // the run
+    for (double x = 0.525; x < 1.5; x += 0.05) {
+      const CellIndex cell = field_.geometry().cellOf({x, 0.025});
+      for (int i = 0; i < 3; ++i)
+        field_.applyHit(cell, kNormalBin);
+      for (int bin = 0; bin < 12; ++bin)
+        field_.applyMiss(cell, bin);
+    }
+  }
+
+  void set(double from_x, double to_x, CellClass c) {
+    for (double x = from_x + 0.025; x < to_x; x += 0.05)
+      classes_[index(x)] = c;
+  }
+  size_t index(double x) const {
+    const CellIndex cell = field_.geometry().cellOf({x, 0.025});
+    return static_cast<size_t>(cell.y() - box_.min.y()) * box_.width() + (cell.x() - box_.min.x());
+  }
+  // Cells of [from_x, to_x) that are glass.
+  int glassCells(double from_x, double to_x) const {
+    int glass = 0;
+    for (double x = from_x + 0.025; x < to_x; x += 0.05)
+      glass += classes_[index(x)] == CellClass::kGlass;
+    return glass;
+  }
+
+  static constexpr int kNormalBin = 45;
+  ReflectanceField field_;
+  CellBox box_;
+  std::vector<CellClass> classes_;
+};
+
+TEST_F(FacadeLine, GapBeyondAPaneThatIsNoRunIsCompleted) {
+  GlassCompletion completion(field_.geometry(), 2.0);
+  const std::vector<int>& completed = completion.complete(field_, box_, classes_);
+  // The walk from the run's west end passes the mullions and the pane (longer than a frame, but
+  // glass of the same line) and closes the gap at the wall.
+  EXPECT_EQ(glassCells(-1.35, -0.35), 20);
+  EXPECT_EQ(completed.size(), 20u);
+  // Nothing beyond the wall.
+  EXPECT_EQ(glassCells(-2.5, -1.40), 0);
+}
+
+TEST_F(FacadeLine, GapLookedThroughNearTheNormalStaysOpen) {
+  // The robot faced the gap: rays near the run's normal passed through it.
+  for (double x = -1.325; x < -0.35; x += 0.05)
+    field_.applyMiss(field_.geometry().cellOf({x, 0.025}), kNormalBin);
+  GlassCompletion completion(field_.geometry(), 2.0);
+  completion.complete(field_, box_, classes_);
+  EXPECT_EQ(glassCells(-1.35, -0.35), 0);
+}
+
+}  // namespace
+}  // namespace rfm
