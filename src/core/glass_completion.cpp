@@ -128,13 +128,16 @@ void GlassCompletion::extend(const ReflectanceField& field, const CellBox& box, 
   auto index = [&](const CellIndex& cell) {
     return (cell.y() - box.min.y()) * box.width() + (cell.x() - box.min.x());
   };
+  auto class_at = [&](const CellIndex& cell) {
+    return box.contains(cell) ? classes[index(cell)] : CellClass::kUnknown;
+  };
   // Anything reflective: frames glimpsed from a few directions only are left as motion by
   // Alg. 2 (nothing widely visible anchors them), yet they still mark the line.
   auto structure_at = [&](const CellIndex& cell) {
-    if (!box.contains(cell)) return false;
-    const CellClass c = classes[index(cell)];
+    const CellClass c = class_at(cell);
     return isObstacle(c) || c == CellClass::kMotion;
   };
+  auto glass_at = [&](const CellIndex& cell) { return class_at(cell) == CellClass::kGlass; };
   // Glass on the line would have returned the rays near its normal: misses there rule it out.
   // At the edges of its lobe glass returns only sometimes (its window jitters), so a cell
   // counts as looked through only where it was missed in half of the run's bins.
@@ -164,9 +167,6 @@ void GlassCompletion::extend(const ReflectanceField& field, const CellBox& box, 
     if (gap.empty()) return;
     turn_to_glass(gap);
     turn_to_glass(framing);
-  };
-  auto glass_at = [&](const CellIndex& cell) {
-    return box.contains(cell) && classes[index(cell)] == CellClass::kGlass;
   };
   forEachCellOnRayWhile(from, to, geometry_.inverseResolution(), [&](const CellIndex& cell) {
     if (!box.contains(cell)) return false;

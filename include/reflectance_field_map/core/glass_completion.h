@@ -17,8 +17,8 @@ namespace rfm {
 //  - it was never looked through near the run's normal, where glass would have returned.
 // A free stretch with all three, no longer than `max_gap` between two pieces of structure, is
 // glass the robot has not faced yet. Other panes on the line close a stretch as structure does,
-// and the search along the line goes on past them, however long they are. An opening on the line that the robot has faced (a door)
-// was missed near the normal and stays open.
+// and the search along the line goes on past them, however long they are. An opening on the line
+// that the robot has faced (a door) was missed near the normal and stays open.
 class GlassCompletion {
  public:
   // max_gap: m of free cells between two pieces of structure on the line (0: off).
