@@ -43,19 +43,23 @@ class ScanInserter {
   size_t insert(const std::vector<Ray>& rays, ReflectanceField& field);
   // The same as insert() on scans[0, count) in turn (the window must stay put), but theta bin by
   // theta bin across the scans: a bin's slice is written for all of them while it is in cache.
+  // Their rays must lie inside the window already (as Mapper::clipToActiveRegion leaves them):
+  // they are not clipped or copied again.
   size_t insertScans(const std::vector<std::vector<Ray>>& scans, size_t count,
                      ReflectanceField& field);
   // The updates insert() would apply for `rays`, sorted by (slot, bin); the field is unchanged.
   void collectUpdates(const std::vector<Ray>& rays, const ReflectanceField& field,
                       std::vector<BinUpdate>& updates);
 
-  // A scan's rays clipped to the window and bucketed by theta bin: bin b's rays are
-  // clipped[order[group_begin[b] .. group_begin[b + 1])], as the inserter sweeps them.
+  // A scan's rays inside the window, bucketed by theta bin: bin b's rays are
+  // (*rays)[order[group_begin[b] .. group_begin[b + 1])], as the inserter sweeps them.
   struct PreparedScan {
+    const std::vector<Ray>* rays = nullptr;  // `clipped`, or the caller's rays already inside
     std::vector<Ray> clipped;
     std::vector<uint32_t> order;
     std::vector<uint32_t> group_begin;
   };
+  // Clips `rays` to the window into prepared.clipped and buckets them.
   static void prepare(const std::vector<Ray>& rays, const ReflectanceField& field,
                       PreparedScan& prepared);
 
