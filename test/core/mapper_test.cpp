@@ -1,4 +1,5 @@
 #include "reflectance_field_map/core/batch_processor.h"
+#include "reflectance_field_map/core/ray_insertion.h"
 
 #include "scenario.h"
 
@@ -112,8 +113,11 @@ TEST(Mapper, GlobalMapKeepsWhatTheActiveRegionLeftBehind) {
 // Same field, persistence and classes as addScan one by one, while the window moves, ticks
 // fall inside groups of scans and (with reflection removal) known glass cuts rays. With
 // `restart`, halfway both restart their evidence and take the scans again (batch
-// re-processing: the glass check then reads frozen reflectivity, grouped by addScans).
-void expectAddScansMatchesAddScan(bool reflection_removal, bool restart = false) {
+// re-processing: the glass check then reads frozen reflectivity, grouped by addScans). With the
+// sensor `sensor_ahead` m ahead of the robot, rays reach beyond the robot-centred window and
+// must be clipped to it before either path inserts them.
+void expectAddScansMatchesAddScan(bool reflection_removal, bool restart = false,
+                                  double sensor_ahead = 0.0) {
   SyntheticWorld world;
   world.addWall({0.0, 2.0}, {40.0, 2.0});
   world.addWall({0.0, -2.0}, {6.0, -2.0});
@@ -126,8 +130,15 @@ void expectAddScansMatchesAddScan(bool reflection_removal, bool restart = false)
   std::vector<TimedScan> scans;
   int i = 0;
   // Facing back while driving on, so rays reach the tiles the window leaves behind.
-  for (const auto& step : driveBy({1.0, 0.0}, {16.0, 0.0}, kPi - 0.3))
-    scans.push_back(world.timedScan(step.robot, 0.025 * i++));
+  for (const auto& step : driveBy({1.0, 0.0}, {16.0, 0.0}, kPi - 0.3)) {
+    TimedScan scan = world.timedScan(step.robot, 0.025 * i++);
+    const double yaw = step.robot.yaw;
+    scan.sensor_pose.position += sensor_ahead * Eigen::Vector2d(std::cos(yaw), std::sin(yaw));
+    scan.scan = world.scan(scan.sensor_pose);
+    scans.push_back(std::move(scan));
+  }
+  size_t rays_beyond_window = 0;
+  std::vector<Ray> rays;
   constexpr size_t kGroup = 33;  // not a multiple of the 20 scans between ticks
   for (int pass = 0; pass < (restart ? 2 : 1); ++pass) {
     if (pass > 0) {
@@ -136,8 +147,16 @@ void expectAddScansMatchesAddScan(bool reflection_removal, bool restart = false)
     }
     for (size_t first = 0; first < scans.size(); first += kGroup) {
       const size_t last = std::min(scans.size(), first + kGroup);
-      for (size_t k = first; k < last; ++k)
+      for (size_t k = first; k < last; ++k) {
         one_by_one.addScan(scans[k]);
+        // The window the scan went into, and its rays as far as they add evidence.
+        const CellBox box = one_by_one.field().activeBox();
+        scanToRays(scans[k].scan, scans[k].sensor_pose, options.insertion, rays);
+        for (Ray& ray : rays) {
+          clipRayToLength(options.active_region.active_region_radius, ray);
+          rays_beyond_window += !box.contains(one_by_one.field().geometry().cellOf(ray.end));
+        }
+      }
       grouped.addScans(scans.begin() + first, scans.begin() + last);
       // Re-processing (Alg. 3) runs motion removal once, at the end of its pass.
       if (pass == 0 || last == scans.size()) {
@@ -166,6 +185,11 @@ void expectAddScansMatchesAddScan(bool reflection_removal, bool restart = false)
   }
   EXPECT_GT(reflective, 1000u);
   EXPECT_GT(confirmed, 100u);
+  if (sensor_ahead > 0.0) {
+    EXPECT_GT(rays_beyond_window, 1000u);
+  } else {
+    EXPECT_EQ(rays_beyond_window, 0u);
+  }
   EXPECT_EQ(one_by_one.stats().scans_processed, grouped.stats().scans_processed);
   EXPECT_EQ(one_by_one.stats().reflection_rays, grouped.stats().reflection_rays);
   if (reflection_removal) {
@@ -193,6 +217,13 @@ TEST(Mapper, AddScansGivesWhatAddScanGivesWithReflectionRemoval) {
 
 TEST(Mapper, AddScansGivesWhatAddScanGivesAfterRestartingTheEvidence) {
   expectAddScansMatchesAddScan(true, /*restart=*/true);
+}
+
+TEST(Mapper, AddScansGivesWhatAddScanGivesWithRaysBeyondTheWindow) {
+  // The window holds the active region around the robot, not around a sensor mounted ahead.
+  // Without reflection removal every group goes into the field together (insertScans, which
+  // takes the mapper's rays as already clipped to the window).
+  expectAddScansMatchesAddScan(false, /*restart=*/false, /*sensor_ahead=*/1.2);
 }
 
 TEST(BatchProcessor, PlainGridBaselineErasesGlassThatTheRfmKeeps) {
