@@ -14,11 +14,8 @@
 #   ROUNDS   runs per scene (default: 5)
 #   PARAMS   optional rfm_offline --params file
 set -euo pipefail
-export PATH=/usr/bin:$PATH
-
-cd "$(dirname "${BASH_SOURCE[0]}")"
-REPO="$(git rev-parse --show-toplevel)"
-source "$REPO/scripts/workspace.sh"
+source "$(dirname "${BASH_SOURCE[0]}")/workspace.sh"
+REPO="$rfm_source_dir"
 OUT="${OUT:-/tmp/rfm_eval}"
 ROUNDS="${ROUNDS:-5}"
 
