@@ -79,7 +79,6 @@ void ScanInserter::prepare(const std::vector<Ray>& rays, const ReflectanceField&
     Ray clipped = ray;
     if (clipRayToBox(box, resolution, clipped)) prepared.clipped.push_back(clipped);
   }
-  prepared.rays = &prepared.clipped;
   bucketRaysByBin(prepared.clipped, field.geometry(), prepared.order, prepared.group_begin);
 }
 
@@ -113,13 +112,13 @@ void ScanInserter::run(const std::vector<Ray>& rays, const ReflectanceField& fie
   prepare(rays, field, single_);
   // Too few rays are not worth waking a helper for.
   constexpr size_t kMinRaysToSplit = 64;
-  parallel &= single_.rays->size() >= kMinRaysToSplit;
+  parallel &= single_.clipped.size() >= kMinRaysToSplit;
   const double inverse_resolution = field.geometry().inverseResolution();
   updates_ = forBinChunks(
       field.geometry().thetaBins(), parallel, [&](size_t first_bin, size_t end_bin, int part) {
         auto&& target = make_target(part);
         DeduplicatingRayInserter& inserter = inserters_[std::max(part, 0)];
-        inserter.insert(field.window(), inverse_resolution, *single_.rays, single_.order,
+        inserter.insert(field.window(), inverse_resolution, single_.clipped, single_.order,
                         single_.group_begin, target, first_bin, end_bin);
         return inserter.updates();
       });
@@ -143,9 +142,7 @@ size_t ScanInserter::insertScans(const std::vector<std::vector<Ray>>& scans, siz
                                  ReflectanceField& field) {
   if (batch_.size() < count) batch_.resize(count);
   parallelFor(runner_.get(), count, 1, [&](size_t s, int) {
-    PreparedScan& prepared = batch_[s];
-    prepared.rays = &scans[s];
-    bucketRaysByBin(scans[s], field.geometry(), prepared.order, prepared.group_begin);
+    bucketRaysByBin(scans[s], field.geometry(), batch_[s].order, batch_[s].group_begin);
   });
   for (ReflectanceField::DeferredSummaries& deferred : deferred_)
     deferred.clear();
@@ -157,7 +154,7 @@ size_t ScanInserter::insertScans(const std::vector<std::vector<Ray>>& scans, siz
         DeduplicatingRayInserter& inserter = inserters_[std::max(part, 0)];
         size_t done = 0;
         for (size_t s = 0; s < count; ++s) {
-          inserter.insert(field.window(), inverse_resolution, *batch_[s].rays, batch_[s].order,
+          inserter.insert(field.window(), inverse_resolution, scans[s], batch_[s].order,
                           batch_[s].group_begin, target, first_bin, end_bin);
           done += inserter.updates();
         }

@@ -48,7 +48,7 @@ Visit sweepScan(ReflectanceField& field, const benchmarking::BenchmarkScan& s,
   ScanInserter::prepare(s.rays, field, scratch);
   const std::vector<uint32_t>& group_begin = scratch.group_begin;
   for (size_t bin = 0; bin + 1 < group_begin.size(); ++bin) {
-    visit = visitCellsOfRays(*scratch.rays, scratch.order.data() + group_begin[bin],
+    visit = visitCellsOfRays(scratch.clipped, scratch.order.data() + group_begin[bin],
                              group_begin[bin + 1] - group_begin[bin],
                              field.geometry().inverseResolution(), field.window(), visit);
   }

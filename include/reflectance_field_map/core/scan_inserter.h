@@ -51,15 +51,13 @@ class ScanInserter {
   void collectUpdates(const std::vector<Ray>& rays, const ReflectanceField& field,
                       std::vector<BinUpdate>& updates);
 
-  // A scan's rays inside the window, bucketed by theta bin: bin b's rays are
-  // (*rays)[order[group_begin[b] .. group_begin[b + 1])], as the inserter sweeps them.
+  // A scan's rays clipped to the window and bucketed by theta bin: bin b's rays are
+  // clipped[order[group_begin[b] .. group_begin[b + 1])], as the inserter sweeps them.
   struct PreparedScan {
-    const std::vector<Ray>* rays = nullptr;  // `clipped`, or the caller's rays already inside
     std::vector<Ray> clipped;
     std::vector<uint32_t> order;
     std::vector<uint32_t> group_begin;
   };
-  // Clips `rays` to the window into prepared.clipped and buckets them.
   static void prepare(const std::vector<Ray>& rays, const ReflectanceField& field,
                       PreparedScan& prepared);
 
@@ -75,7 +73,7 @@ class ScanInserter {
   size_t forBinChunks(int bins, bool parallel, InsertBins&& insert_bins);
 
   PreparedScan single_;
-  std::vector<PreparedScan> batch_;
+  std::vector<PreparedScan> batch_;  // insertScans' buckets; `clipped` unused (rays go in as given)
   std::vector<DeduplicatingRayInserter> inserters_;  // one per thread: each has its own stamps
   // Per thread, each in its own cache lines (threads append to them side by side).
   std::vector<ReflectanceField::DeferredSummaries> deferred_;
