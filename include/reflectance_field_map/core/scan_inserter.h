@@ -51,12 +51,15 @@ class ScanInserter {
   void collectUpdates(const std::vector<Ray>& rays, const ReflectanceField& field,
                       std::vector<BinUpdate>& updates);
 
-  // A scan's rays clipped to the window and bucketed by theta bin: bin b's rays are
-  // clipped[order[group_begin[b] .. group_begin[b + 1])], as the inserter sweeps them.
-  struct PreparedScan {
-    std::vector<Ray> clipped;
+  // Rays bucketed by theta bin (bucketRaysByBin): bin b's rays are
+  // rays[order[group_begin[b] .. group_begin[b + 1])], as the inserter sweeps them.
+  struct BinBuckets {
     std::vector<uint32_t> order;
     std::vector<uint32_t> group_begin;
+  };
+  // A scan's rays clipped to the window, and their buckets.
+  struct PreparedScan : BinBuckets {
+    std::vector<Ray> clipped;
   };
   static void prepare(const std::vector<Ray>& rays, const ReflectanceField& field,
                       PreparedScan& prepared);
@@ -73,7 +76,7 @@ class ScanInserter {
   size_t forBinChunks(int bins, bool parallel, InsertBins&& insert_bins);
 
   PreparedScan single_;
-  std::vector<PreparedScan> batch_;  // insertScans' buckets; `clipped` unused (rays go in as given)
+  std::vector<BinBuckets> batch_;                    // insertScans': its scans' rays go in as given
   std::vector<DeduplicatingRayInserter> inserters_;  // one per thread: each has its own stamps
   // Per thread, each in its own cache lines (threads append to them side by side).
   std::vector<ReflectanceField::DeferredSummaries> deferred_;
