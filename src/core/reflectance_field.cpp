@@ -292,22 +292,51 @@ void ReflectanceField::rebuildCellSummary(int storage_index) {
   ++tile_versions_[tile];
 }
 
-void ReflectanceField::applySummaryChanges(const std::vector<DeferredSummaries>& writers,
+void ReflectanceField::applySummaryChanges(std::vector<DeferredSummaries>& writers,
                                            ParallelRunner* runner) {
   if (writers.empty()) return;
+  const size_t parts = static_cast<size_t>(writers.front().parts);
+  const size_t tiles = window_.storageTiles();
+  const size_t tile_slots = size_t{1} << window_.tileSlotShift();
+  // Writers that summed missed counts for this field (the others never wrote to it).
+  std::vector<DeferredSummaries*> summed;
+  size_t work = 0;  // changes listed, and cells of tiles with sums
+  for (DeferredSummaries& writer : writers) {
+    work += writer.size();
+    if (writer.touched.size() != tiles || writer.missed.size() != plane_) continue;
+    summed.push_back(&writer);
+    work += tile_slots * static_cast<size_t>(
+                             std::count(writer.touched.begin(), writer.touched.end(), uint8_t{1}));
+  }
+  // Part p takes list p and the tiles t with t & (parts - 1) == p, as the lists split them.
   auto apply_part = [&](size_t part, int) {
     for (const DeferredSummaries& writer : writers) {
       for (const SummaryChange& c : writer.lists[part])
         applySummaryChange(c.slot, c.bin, c.reflective, c.missed);
     }
+    for (size_t tile = part; tile < tiles; tile += parts) {
+      bool touched = false;
+      for (const DeferredSummaries* writer : summed)
+        touched |= writer->touched[tile] != 0;
+      if (!touched) continue;
+      const size_t first = tile * tile_slots;
+      for (size_t slot = first; slot < first + tile_slots; ++slot) {
+        uint8_t count = static_cast<uint8_t>(missed_bins_[slot]);  // at most 180 bins
+        for (const DeferredSummaries* writer : summed)
+          count += writer->missed[slot];
+        missed_bins_[slot] = count;
+      }
+      // The sums are consumed: empty for the writers' next changes.
+      for (DeferredSummaries* writer : summed) {
+        std::fill_n(&writer->missed[first], tile_slots, uint8_t{0});
+        writer->touched[tile] = 0;
+      }
+      ++tile_versions_[tile];
+    }
   };
   // A scan's few changes (online) are not worth waking a helper for.
-  constexpr size_t kMinChangesToShare = 4096;
-  size_t changes = 0;
-  for (const DeferredSummaries& writer : writers)
-    changes += writer.size();
-  const size_t parts = static_cast<size_t>(writers.front().parts);
-  if (changes < kMinChangesToShare) runner = nullptr;
+  constexpr size_t kMinWorkToShare = 4096;
+  if (work < kMinWorkToShare) runner = nullptr;
   parallelFor(runner, parts, 1, apply_part);
 }
 

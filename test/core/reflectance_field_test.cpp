@@ -348,11 +348,13 @@ TEST(ReflectanceField, SliceWriterSummariesMatchBinsForAnyStepsAndClamps) {
     constexpr int kCoordinates[] = {-20, -17, -3, -1, 0, 2, 17, 19};
     std::uniform_int_distribution<int> coordinate(0, 7), bin(0, 179), coin(0, 2);
     ParallelRunner runner(2);
-    for (const bool deferred : {false, true}) {
-      // Two writers' changes (each bin has one writer, as in the inserter), each in four lists
-      // by tile, applied on two threads.
-      std::vector<ReflectanceField::DeferredSummaries> changes(
-          2, ReflectanceField::DeferredSummaries(4));
+    // Two writers' changes (each bin has one writer, as in the inserter), each in four lists
+    // by tile, applied on two threads. The writers defer twice: applying empties them.
+    std::vector<ReflectanceField::DeferredSummaries> changes(
+        2, ReflectanceField::DeferredSummaries(4));
+    for (const bool deferred : {false, true, true}) {
+      for (ReflectanceField::DeferredSummaries& writer : changes)
+        writer.clear();
       for (int i = 0; i < 100000; ++i) {
         const int slot = field.window().storageIndex(
             {kCoordinates[coordinate(rng)], kCoordinates[coordinate(rng)]});

@@ -81,13 +81,16 @@ class ReflectanceField {
     int8_t missed;      // +1 became missed, -1 stopped being, 0 unchanged
   };
 
-  // Summary changes a writer deferred, in lists by storage tile (tile & (parts - 1)): the lists
-  // touch disjoint cells and tiles, so applySummaryChanges applies them side by side. A pass
-  // starts with every bin at the prior, so each (cell, bin) a pass sees is a change.
+  // Summary changes a writer deferred. Changes of a mask bit (and so of the reflective count) go
+  // in lists by storage tile (tile & (parts - 1)): the lists touch disjoint cells and tiles, so
+  // applySummaryChanges applies them side by side, each list in its order. Changes of the missed
+  // count, most of all (a pass starts with every bin at the prior, so each (cell, bin) it misses
+  // is one), are summed per cell instead: counts add up in any order.
   // The lists' headers live in the struct, in cache lines of its own: threads append side by side.
   struct alignas(64) DeferredSummaries {
     static constexpr int kMaxParts = 8;
     explicit DeferredSummaries(int parts = 1) : parts(parts) {}  // a power of two <= kMaxParts
+    // Empties the lists. The sums are empty after every applySummaryChanges.
     void clear() {
       for (std::vector<SummaryChange>& list : lists)
         list.clear();
@@ -100,6 +103,10 @@ class ReflectanceField {
     }
     int parts;
     std::array<std::vector<SummaryChange>, kMaxParts> lists;  // the first `parts` in use
+    // By storage slot: the change of the cell's missed count, modulo 256 (a count of at most 255
+    // bins comes out right from any number of writers' sums).
+    std::vector<uint8_t> missed;
+    std::vector<uint8_t> touched;  // by storage tile: `missed` holds a change there
   };
 
   // Writes one theta slice with everything it needs held locally: int8 stores may alias any
@@ -138,9 +145,14 @@ class ReflectanceField {
     // Called only for a change: every value in the ranges tested above crosses or reaches 0.
     void change(int slot, int reflective, int missed) {
       if (deferred_) {
-        deferred_[(slot >> tile_slot_shift_) & part_mask_].push_back(
-            {slot, static_cast<int16_t>(bin_), static_cast<int8_t>(reflective),
-             static_cast<int8_t>(missed)});
+        if (missed != 0) {
+          missed_sums_[slot] += static_cast<uint8_t>(missed);
+          touched_tiles_[slot >> tile_slot_shift_] = 1;
+        }
+        if (reflective != 0) {
+          deferred_[(slot >> tile_slot_shift_) & part_mask_].push_back(
+              {slot, static_cast<int16_t>(bin_), static_cast<int8_t>(reflective), 0});
+        }
       } else {
         field_->applySummaryChange(slot, bin_, reflective, missed);
       }
@@ -149,6 +161,8 @@ class ReflectanceField {
     uint8_t* hit_flags_;
     ReflectanceField* field_;
     std::vector<SummaryChange>* deferred_;  // DeferredSummaries::lists, or null
+    uint8_t* missed_sums_;                  // DeferredSummaries::missed, when deferred_ is set
+    uint8_t* touched_tiles_;                // DeferredSummaries::touched, when deferred_ is set
     int tile_slot_shift_, part_mask_;
     int bin_, hit_step_, miss_step_, min_, max_;
   };
@@ -159,6 +173,15 @@ class ReflectanceField {
     w.hit_flags_ = hit_since_tick_.data();
     w.field_ = this;
     w.deferred_ = deferred ? deferred->lists.data() : nullptr;
+    w.missed_sums_ = w.touched_tiles_ = nullptr;
+    if (deferred) {
+      if (deferred->missed.size() != plane_) {
+        deferred->missed.assign(plane_, 0);
+        deferred->touched.assign(window_.storageTiles(), 0);
+      }
+      w.missed_sums_ = deferred->missed.data();
+      w.touched_tiles_ = deferred->touched.data();
+    }
     w.tile_slot_shift_ = window_.tileSlotShift();
     w.part_mask_ = deferred ? deferred->parts - 1 : 0;
     w.bin_ = bin;
@@ -168,10 +191,11 @@ class ReflectanceField {
     w.max_ = log_odds_.maxValue();
     return w;
   }
-  // Applies the writers' deferred changes, the lists of each part on one of the runner's threads
-  // when there are enough to share (all writers with the same number of parts). Each bin must
-  // have had one writer, so that its changes, which set and clear its mask bit, keep their order.
-  void applySummaryChanges(const std::vector<DeferredSummaries>& writers, ParallelRunner* runner);
+  // Applies the writers' deferred changes, the lists of each part (and the sums of its tiles) on
+  // one of the runner's threads when there are enough to share (all writers with the same number
+  // of parts), and empties the writers' sums. Each bin must have had one writer, so that its
+  // changes, which set and clear its mask bit, keep their order.
+  void applySummaryChanges(std::vector<DeferredSummaries>& writers, ParallelRunner* runner);
 
   // Single updates by storage index = window().storageIndex(cell).
   void applyHitAt(int storage_index, int bin) {
