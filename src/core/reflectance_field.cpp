@@ -315,23 +315,21 @@ void ReflectanceField::applySummaryChanges(std::vector<DeferredSummaries>& write
         applySummaryChange(c.slot, c.bin, c.reflective, c.missed);
     }
     for (size_t tile = part; tile < tiles; tile += parts) {
-      bool touched = false;
-      for (const DeferredSummaries* writer : summed)
-        touched |= writer->touched[tile] != 0;
-      if (!touched) continue;
       const size_t first = tile * tile_slots;
-      for (size_t slot = first; slot < first + tile_slots; ++slot) {
-        uint8_t count = static_cast<uint8_t>(missed_bins_[slot]);  // at most 180 bins
-        for (const DeferredSummaries* writer : summed)
-          count += writer->missed[slot];
-        missed_bins_[slot] = count;
-      }
-      // The sums are consumed: empty for the writers' next changes.
+      uint16_t* const counts = &missed_bins_[first];
+      bool touched = false;
       for (DeferredSummaries* writer : summed) {
-        std::fill_n(&writer->missed[first], tile_slots, uint8_t{0});
+        if (!writer->touched[tile]) continue;
+        touched = true;
+        // Counts come out right modulo 2^16, whatever the sums between.
+        uint16_t* const sums = &writer->missed[first];
+        for (size_t i = 0; i < tile_slots; ++i)
+          counts[i] = static_cast<uint16_t>(counts[i] + sums[i]);
+        // Consumed: empty for the writer's next changes.
+        std::fill_n(sums, tile_slots, uint16_t{0});
         writer->touched[tile] = 0;
       }
-      ++tile_versions_[tile];
+      if (touched) ++tile_versions_[tile];
     }
   };
   // A scan's few changes (online) are not worth waking a helper for.

@@ -103,9 +103,9 @@ class ReflectanceField {
     }
     int parts;
     std::array<std::vector<SummaryChange>, kMaxParts> lists;  // the first `parts` in use
-    // By storage slot: the change of the cell's missed count, modulo 256 (a count of at most 255
-    // bins comes out right from any number of writers' sums).
-    std::vector<uint8_t> missed;
+    // By storage slot: the change of the cell's missed count, modulo 2^16 (a count, at most
+    // 1440 bins, comes out right from any number of writers' sums).
+    std::vector<uint16_t> missed;
     std::vector<uint8_t> touched;  // by storage tile: `missed` holds a change there
   };
 
@@ -146,7 +146,7 @@ class ReflectanceField {
     void change(int slot, int reflective, int missed) {
       if (deferred_) {
         if (missed != 0) {
-          missed_sums_[slot] += static_cast<uint8_t>(missed);
+          missed_sums_[slot] += static_cast<uint16_t>(missed);
           touched_tiles_[slot >> tile_slot_shift_] = 1;
         }
         if (reflective != 0) {
@@ -161,7 +161,7 @@ class ReflectanceField {
     uint8_t* hit_flags_;
     ReflectanceField* field_;
     std::vector<SummaryChange>* deferred_;  // DeferredSummaries::lists, or null
-    uint8_t* missed_sums_;                  // DeferredSummaries::missed, when deferred_ is set
+    uint16_t* missed_sums_;                 // DeferredSummaries::missed, when deferred_ is set
     uint8_t* touched_tiles_;                // DeferredSummaries::touched, when deferred_ is set
     int tile_slot_shift_, part_mask_;
     int bin_, hit_step_, miss_step_, min_, max_;
@@ -173,7 +173,8 @@ class ReflectanceField {
     w.hit_flags_ = hit_since_tick_.data();
     w.field_ = this;
     w.deferred_ = deferred ? deferred->lists.data() : nullptr;
-    w.missed_sums_ = w.touched_tiles_ = nullptr;
+    w.missed_sums_ = nullptr;
+    w.touched_tiles_ = nullptr;
     if (deferred) {
       if (deferred->missed.size() != plane_) {
         deferred->missed.assign(plane_, 0);
