@@ -14,6 +14,11 @@ struct FieldTarget {
   ReflectanceField::SliceWriter writer(int bin) { return field.sliceWriter(bin, deferred); }
 };
 
+// The same, without counting the updates (see insertScans).
+struct UncountedFieldTarget : FieldTarget {
+  static constexpr bool kCountsUpdates = false;
+};
+
 // Records the updates instead of applying them (not thread-safe).
 struct UpdateRecorder {
   static constexpr bool kOneFanPerGroup = true;  // as FieldTarget
@@ -138,8 +143,8 @@ size_t ScanInserter::insert(const std::vector<Ray>& rays, ReflectanceField& fiel
   return updates_;
 }
 
-size_t ScanInserter::insertScans(const std::vector<std::vector<Ray>>& scans, size_t count,
-                                 ReflectanceField& field) {
+void ScanInserter::insertScans(const std::vector<std::vector<Ray>>& scans, size_t count,
+                               ReflectanceField& field) {
   if (batch_.size() < count) batch_.resize(count);
   parallelFor(runner_.get(), count, 1, [&](size_t s, int) {
     bucketRaysByBin(scans[s], field.geometry(), batch_[s].order, batch_[s].group_begin);
@@ -148,20 +153,16 @@ size_t ScanInserter::insertScans(const std::vector<std::vector<Ray>>& scans, siz
     deferred.clear();
   const double inverse_resolution = field.geometry().inverseResolution();
   // Each bin sees the scans in their order, so its filters take the same updates as scan by scan.
-  const size_t updates = forBinChunks(
-      field.geometry().thetaBins(), true, [&](size_t first_bin, size_t end_bin, int part) {
-        FieldTarget target{field, part < 0 ? nullptr : &deferred_[part]};
-        DeduplicatingRayInserter& inserter = inserters_[std::max(part, 0)];
-        size_t done = 0;
-        for (size_t s = 0; s < count; ++s) {
-          inserter.insert(field.window(), inverse_resolution, scans[s], batch_[s].order,
-                          batch_[s].group_begin, target, first_bin, end_bin);
-          done += inserter.updates();
-        }
-        return done;
-      });
+  forBinChunks(field.geometry().thetaBins(), true, [&](size_t first_bin, size_t end_bin, int part) {
+    UncountedFieldTarget target{{field, part < 0 ? nullptr : &deferred_[part]}};
+    DeduplicatingRayInserter& inserter = inserters_[std::max(part, 0)];
+    for (size_t s = 0; s < count; ++s) {
+      inserter.insert(field.window(), inverse_resolution, scans[s], batch_[s].order,
+                      batch_[s].group_begin, target, first_bin, end_bin);
+    }
+    return size_t{0};
+  });
   field.applySummaryChanges(deferred_, runner_.get());
-  return updates;
 }
 
 void ScanInserter::collectUpdates(const std::vector<Ray>& rays, const ReflectanceField& field,

@@ -34,6 +34,8 @@ class alignas(64) DeduplicatingRayInserter {
   // A target whose groups are each one scan's rays of one theta bin, which form one fan,
   // declares `static constexpr bool kOneFanPerGroup = true`: those sweeps then skip the stamps
   // where they can (visitCellsOfRays). The plain grid's one group is a whole scan.
+  // updates() counts the updates applied, unless the target declares
+  // `static constexpr bool kCountsUpdates = false` (then it is 0).
   // `rays` are already clipped; `group_begin[g]..group_begin[g+1]` index `order`. Only groups
   // in [first_group, end_group) are inserted (all by default): inserters with their own stamps
   // may take disjoint group ranges concurrently.
@@ -101,9 +103,10 @@ inline void walkWindowCells(const Eigen::Vector2d& start, const Eigen::Vector2d&
 
 namespace insertion_detail {
 
-// Adds a miss to each slot not yet stamped. Holds everything by value: byte stores may alias
-// any memory, so state reached through pointers or references would be reloaded every cell.
-template <typename Writer>
+// Adds a miss to each slot not yet stamped, counting them if kCount. Holds everything by value:
+// byte stores may alias any memory, so state reached through pointers or references would be
+// reloaded every cell.
+template <typename Writer, bool kCount>
 struct MissWriter {
   uint16_t* stamps;
   uint16_t stamp;
@@ -113,18 +116,18 @@ struct MissWriter {
     if (stamps[slot] != stamp) {
       stamps[slot] = stamp;
       writer.miss(slot);
-      ++updates;
+      if constexpr (kCount) ++updates;
     }
   }
 };
 
 // For groups that are one fan of rays (Target::kOneFanPerGroup): cells the sweep visits once
 // and that end no ray (visitCellsOfRays) take their miss without a stamp.
-template <typename Writer>
-struct FanMissWriter : MissWriter<Writer> {
+template <typename Writer, bool kCount>
+struct FanMissWriter : MissWriter<Writer, kCount> {
   __attribute__((always_inline)) void once(int slot) {
     this->writer.miss(slot);
-    ++this->updates;
+    if constexpr (kCount) ++this->updates;
   }
 };
 
@@ -133,6 +136,12 @@ struct OneFanPerGroup : std::false_type {};
 template <typename Target>
 struct OneFanPerGroup<Target, std::void_t<decltype(Target::kOneFanPerGroup)>>
     : std::bool_constant<Target::kOneFanPerGroup> {};
+
+template <typename Target, typename = void>
+struct CountsUpdates : std::true_type {};
+template <typename Target>
+struct CountsUpdates<Target, std::void_t<decltype(Target::kCountsUpdates)>>
+    : std::bool_constant<Target::kCountsUpdates> {};
 
 }  // namespace insertion_detail
 
@@ -144,6 +153,7 @@ void DeduplicatingRayInserter::insert(const RollingWindow& window, double invers
                                       size_t first_group, size_t end_group) {
   const int size = window.sizeCells();
   prepare(static_cast<size_t>(size) * size);
+  constexpr bool kCount = insertion_detail::CountsUpdates<Target>::value;
   size_t updates = 0;
   uint16_t* const stamps = stamps_.data();
   end_group = std::min(end_group, group_begin.size() - 1);
@@ -160,13 +170,13 @@ void DeduplicatingRayInserter::insert(const RollingWindow& window, double invers
       if (stamps[slot] == stamp) continue;
       stamps[slot] = stamp;
       writer.hit(slot);
-      ++updates;
+      if constexpr (kCount) ++updates;
     }
     // Misses on every cell of the group's rays. A hit ray's end cell holds its hit: stamped
     // above, so the sweep (which covers end cells) passes over it.
     using Misses = std::conditional_t<insertion_detail::OneFanPerGroup<Target>::value,
-                                      insertion_detail::FanMissWriter<decltype(writer)>,
-                                      insertion_detail::MissWriter<decltype(writer)>>;
+                                      insertion_detail::FanMissWriter<decltype(writer), kCount>,
+                                      insertion_detail::MissWriter<decltype(writer), kCount>>;
     const Misses misses = visitCellsOfRays(rays, &order[begin], end - begin, inverse_resolution,
                                            window, Misses{stamps, stamp, writer});
     updates += misses.updates;
