@@ -44,7 +44,8 @@ ReflectanceField::ReflectanceField(const GridOptions& grid, const LogOddsOptions
       reflective_bins_(plane_, 0),
       confirmed_ticks_(plane_, 0),
       tile_reflective_cells_(window_.storageTiles(), 0),
-      tile_versions_(window_.storageTiles(), 0) {}
+      tile_versions_(window_.storageTiles(), 0),
+      tick_pending_(window_.storageTiles(), 0) {}
 
 ReflectanceField::Identity::Identity() {
   static std::atomic<uint64_t> next{1};
@@ -197,6 +198,7 @@ void ReflectanceField::clear() {
   std::fill(reflective_bins_.begin(), reflective_bins_.end(), 0);
   std::fill(confirmed_ticks_.begin(), confirmed_ticks_.end(), 0);
   std::fill(tile_reflective_cells_.begin(), tile_reflective_cells_.end(), 0);
+  std::fill(tick_pending_.begin(), tick_pending_.end(), 0);
   for (uint32_t& version : tile_versions_)
     ++version;
   archive_.clear();
@@ -272,6 +274,7 @@ void ReflectanceField::rebuildSummaries(const TileIndex& tile) {
   }
   const int storage_tile = window_.storageTile(tile);
   tile_reflective_cells_[storage_tile] = reflective_cells;
+  tick_pending_[storage_tile] = 1;
   ++tile_versions_[storage_tile];
 }
 
@@ -289,6 +292,7 @@ void ReflectanceField::rebuildCellSummary(int storage_index) {
   const int tile = storage_index >> window_.tileSlotShift();
   tile_reflective_cells_[tile] += (reflective != 0) - (reflective_bins_[storage_index] != 0);
   reflective_bins_[storage_index] = reflective;
+  tick_pending_[tile] = 1;
   ++tile_versions_[tile];
 }
 
@@ -396,6 +400,12 @@ void ReflectanceField::tickPersistence(int remembered_min_bins, int confirmed_mi
   parallelFor(runner, (tiles + kTilesPerPart - 1) / kTilesPerPart, 1, [&](size_t part, int thread) {
     const size_t end = std::min(plane_, (part + 1) * kTilesPerPart * tile_slots);
     for (size_t first = part * kTilesPerPart * tile_slots; first < end; first += tile_slots) {
+      // A tile with no hit and no mask change since the last tick was left as this tick would
+      // leave it: hit flags clear, unreflective cells at 0 ticks, reflective ones held, histories
+      // holding their masks. (Remembering cells with no reflective bin would change it.)
+      uint8_t& pending = tick_pending_[first >> window_.tileSlotShift()];
+      if (!pending && remembered_min_bins > 0) continue;
+      pending = 0;
       if (remembered_min_bins > 0 &&
           tile_reflective_cells_[first >> window_.tileSlotShift()] == 0) {
         // No cell of this tile is reflective: none is remembered or confirmed, so all that is

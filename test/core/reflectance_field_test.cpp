@@ -126,6 +126,37 @@ TEST(ReflectanceField, TickClearsATileWithNoReflectiveCellLeft) {
   EXPECT_EQ(field.vacantTicksAt(slot), 1);
 }
 
+// Ticks pass over tiles with no hit and no mask change since the last one. A cell that stops
+// reflecting through misses alone must still lose its confirmation, beside a cell that holds its
+// own, and alone in its tile.
+TEST(ReflectanceField, TickResetsACellThatStoppedReflectingWithoutAHit) {
+  ReflectanceField field = smallField();
+  const CellIndex fading(1, 1), holding(2, 1), alone(-5, -5);
+  ASSERT_EQ(field.window().tileOf(fading), field.window().tileOf(holding));
+  ASSERT_NE(field.window().tileOf(fading), field.window().tileOf(alone));
+  auto ticks = [&](const CellIndex& cell) {
+    return field.confirmedTicksAt(field.window().storageIndex(cell));
+  };
+  for (const CellIndex& cell : {fading, holding, alone}) {
+    for (int bin = 20; bin < 60; ++bin)
+      field.applyHit(cell, bin);
+  }
+  field.tickPersistence(/*remembered_min_bins=*/3);
+  ASSERT_EQ(ticks(fading), 1);
+  ASSERT_EQ(ticks(alone), 1);
+  for (const CellIndex& cell : {fading, alone}) {
+    for (int i = 0; i < 5; ++i) {
+      for (int bin = 20; bin < 60; ++bin)
+        field.applyMiss(cell, bin);
+    }
+    ASSERT_EQ(field.reflectiveBins(cell), 0);
+  }
+  field.tickPersistence(/*remembered_min_bins=*/3);
+  EXPECT_EQ(ticks(fading), 0);
+  EXPECT_EQ(ticks(alone), 0);
+  EXPECT_EQ(ticks(holding), 1);  // not hit since: held
+}
+
 // Abandonment: ticks over which a long-confirmed cell was missed in a bin it had been certain
 // in, and hit nowhere. Glass seen through at the edge of its lobe and structure still hit are
 // not abandoned; cells never confirmed have no such history.

@@ -123,6 +123,7 @@ class ReflectanceField {
       // Every writer stores the same 1: relaxed atomic, so concurrent writers are well defined.
       if (!__atomic_load_n(&hit_flags_[slot], __ATOMIC_RELAXED)) {
         __atomic_store_n(&hit_flags_[slot], uint8_t{1}, __ATOMIC_RELAXED);
+        __atomic_store_n(&tick_pending_[slot >> tile_slot_shift_], uint8_t{1}, __ATOMIC_RELAXED);
       }
       // Only a bin in [-hit_step, 0] reaches or crosses the prior (p = 0.5) on a hit: one test.
       if (static_cast<unsigned>(old + hit_step_) <= static_cast<unsigned>(hit_step_)) {
@@ -159,6 +160,7 @@ class ReflectanceField {
     }
     int8_t* bins_;
     uint8_t* hit_flags_;
+    uint8_t* tick_pending_;
     ReflectanceField* field_;
     std::vector<SummaryChange>* deferred_;  // DeferredSummaries::lists, or null
     uint16_t* missed_sums_;                 // DeferredSummaries::missed, when deferred_ is set
@@ -171,6 +173,7 @@ class ReflectanceField {
     SliceWriter w;
     w.bins_ = &bins_[static_cast<size_t>(bin) * plane_];
     w.hit_flags_ = hit_since_tick_.data();
+    w.tick_pending_ = tick_pending_.data();
     w.field_ = this;
     w.deferred_ = deferred ? deferred->lists.data() : nullptr;
     w.missed_sums_ = nullptr;
@@ -204,6 +207,7 @@ class ReflectanceField {
     const int8_t old = v;
     v = log_odds_.hit(old);
     hit_since_tick_[storage_index] = 1;
+    tick_pending_[storage_index >> window_.tileSlotShift()] = 1;
     applySummaryChange(storage_index, bin, old <= 0 && v > 0, old < 0 && v >= 0 ? -1 : 0);
   }
   void applyMissAt(int storage_index, int bin) {
@@ -307,6 +311,7 @@ class ReflectanceField {
     if ((reflective | missed) == 0) return;
     const int tile = storage_index >> window_.tileSlotShift();
     if (reflective != 0) {
+      tick_pending_[tile] = 1;
       uint64_t& word =
           reflective_masks_[static_cast<size_t>(storage_index) * mask_words_ + (bin >> 6)];
       const uint64_t bit = uint64_t{1} << (bin & 63);
@@ -346,6 +351,9 @@ class ReflectanceField {
   std::vector<uint8_t> confirmed_ticks_;        // [y][x]
   std::vector<int> tile_reflective_cells_;      // per storage tile
   std::vector<uint32_t> tile_versions_;         // per storage tile
+  // Per storage tile: a cell was hit, or a mask changed, since the last persistence tick. A tick
+  // changes nothing in the other tiles (tickPersistence).
+  std::vector<uint8_t> tick_pending_;
   // A new number for every field object, copies and assignments included.
   struct Identity {
     Identity();
