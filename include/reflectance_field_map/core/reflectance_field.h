@@ -144,7 +144,8 @@ class ReflectanceField {
    private:
     friend class ReflectanceField;
     // Called only for a change: every value in the ranges tested above crosses or reaches 0.
-    void change(int slot, int reflective, int missed) {
+    // Inlined: left to itself the compiler called it through the PLT, 5 % of a pass's instructions.
+    __attribute__((always_inline)) void change(int slot, int reflective, int missed) {
       if (deferred_) {
         if (missed != 0) {
           missed_sums_[slot] += static_cast<uint16_t>(missed);
