@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 #include <set>
 #include <utility>
@@ -31,6 +32,32 @@ Ray makeRay(const Eigen::Vector2d& from, const Eigen::Vector2d& to, bool hit, ui
   ray.hit = hit;
   ray.beam = beam;
   return ray;
+}
+
+// Rays longer than the evidence range lose their hit and end at the range, whatever the
+// direction; rays up to it, to the last bit, keep theirs (the cut compares squares first).
+TEST(ClipRayToLength, CutsOnlyRaysLongerThanTheRange) {
+  constexpr double kRange = 10.0;
+  for (const double angle : {0.0, 0.3, 1.0, 2.5, -2.0}) {
+    const Eigen::Vector2d origin(1.25, -3.5), direction(std::cos(angle), std::sin(angle));
+    for (const double length :
+         {0.5, std::nextafter(kRange, 0.0), kRange, std::nextafter(kRange, 20.0), 10.001, 25.0}) {
+      Ray ray;
+      ray.origin = origin;
+      ray.end = origin + length * direction;
+      ray.hit = true;
+      const Ray before = ray;
+      clipRayToLength(kRange, ray);
+      const double measured = (before.end - before.origin).norm();  // as the cut measures it
+      if (measured > kRange) {
+        EXPECT_FALSE(ray.hit) << "angle " << angle << " length " << length;
+        EXPECT_NEAR((ray.end - ray.origin).norm(), kRange, 1e-9);
+      } else {
+        EXPECT_TRUE(ray.hit) << "angle " << angle << " length " << length;
+        EXPECT_EQ(ray.end, before.end);
+      }
+    }
+  }
 }
 
 TEST(ScanInserter, EachRayUpdatesOnlyItsThetaSlice) {
