@@ -316,7 +316,7 @@ void ReflectanceField::applySummaryChanges(std::vector<DeferredSummaries>& write
   auto apply_part = [&](size_t part, int) {
     for (const DeferredSummaries& writer : writers) {
       for (const SummaryChange& c : writer.lists[part])
-        applySummaryChange(c.slot, c.bin, c.reflective, c.missed);
+        applySummaryChange(c.slot, c.bin, c.reflective, /*missed=*/0);
     }
     for (size_t tile = part; tile < tiles; tile += parts) {
       const size_t first = tile * tile_slots;
@@ -402,7 +402,7 @@ void ReflectanceField::tickPersistence(int remembered_min_bins, int confirmed_mi
     for (size_t first = part * kTilesPerPart * tile_slots; first < end; first += tile_slots) {
       // A tile with no hit and no mask change since the last tick was left as this tick would
       // leave it: hit flags clear, unreflective cells at 0 ticks, reflective ones held, histories
-      // holding their masks. (Remembering cells with no reflective bin would change it.)
+      // holding their masks. Unless every cell is remembered, reflective or not (min bins 0).
       uint8_t& pending = tick_pending_[first >> window_.tileSlotShift()];
       if (!pending && remembered_min_bins > 0) continue;
       pending = 0;

@@ -73,12 +73,12 @@ class ReflectanceField {
   void applyMiss(const CellIndex& cell, int bin) { applyMissAt(window_.storageIndex(cell), bin); }
 
   // A bin crossing the prior changes its cell's summaries (mask bit, reflective and missed
-  // counts), which all bins of the cell share.
+  // counts), which all bins of the cell share. Deferred, a mask bit's change is listed as this;
+  // missed counts are summed (DeferredSummaries).
   struct SummaryChange {
     int32_t slot;
     int16_t bin;
-    int8_t reflective;  // +1 became reflective, -1 stopped being, 0 unchanged
-    int8_t missed;      // +1 became missed, -1 stopped being, 0 unchanged
+    int8_t reflective;  // +1 became reflective, -1 stopped being
   };
 
   // Summary changes a writer deferred. Changes of a mask bit (and so of the reflective count) go
@@ -153,7 +153,7 @@ class ReflectanceField {
         }
         if (reflective != 0) {
           deferred_[(slot >> tile_slot_shift_) & part_mask_].push_back(
-              {slot, static_cast<int16_t>(bin_), static_cast<int8_t>(reflective), 0});
+              {slot, static_cast<int16_t>(bin_), static_cast<int8_t>(reflective)});
         }
       } else {
         field_->applySummaryChange(slot, bin_, reflective, missed);
