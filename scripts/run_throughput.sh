@@ -58,7 +58,7 @@ print(sys.argv[1], timing["real_time_factor"], timing["wall_s"])' \
   done
 done
 
-python3 - "$TIMES" "$ROUNDS" "$(git -C "$REPO" rev-parse --short HEAD)" <<'PY'
+python3 - "$TIMES" "$ROUNDS" "$(git -C "$REPO" rev-parse --short HEAD 2>/dev/null || echo unknown)" <<'PY'
 import collections, statistics, sys
 runs = collections.OrderedDict()
 for line in open(sys.argv[1]):

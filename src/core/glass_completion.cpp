@@ -182,7 +182,7 @@ void GlassCompletion::extend(const ReflectanceField& field, const CellBox& box, 
       close_gap();  // structure closes the gap before it
       if (structure == 0) framing.clear();
       for (const CellIndex& c : {CellIndex(cell - beside), cell, CellIndex(cell + beside)}) {
-        if (box.contains(c) && classes[index(c)] == CellClass::kMotion) framing.push_back(index(c));
+        if (class_at(c) == CellClass::kMotion) framing.push_back(index(c));
       }
       return ++structure * resolution <= kMaxStructure;
     }

@@ -132,9 +132,11 @@ void expectAddScansMatchesAddScan(bool reflection_removal, bool restart = false,
   // Facing back while driving on, so rays reach the tiles the window leaves behind.
   for (const auto& step : driveBy({1.0, 0.0}, {16.0, 0.0}, kPi - 0.3)) {
     TimedScan scan = world.timedScan(step.robot, 0.025 * i++);
-    const double yaw = step.robot.yaw;
-    scan.sensor_pose.position += sensor_ahead * Eigen::Vector2d(std::cos(yaw), std::sin(yaw));
-    scan.scan = world.scan(scan.sensor_pose);
+    if (sensor_ahead != 0.0) {
+      const double yaw = step.robot.yaw;
+      scan.sensor_pose.position += sensor_ahead * Eigen::Vector2d(std::cos(yaw), std::sin(yaw));
+      scan.scan = world.scan(scan.sensor_pose);
+    }
     scans.push_back(std::move(scan));
   }
   size_t rays_beyond_window = 0;
