@@ -43,20 +43,22 @@ Extent recordingExtent(const std::vector<TimedScan>& scans, const MapperOptions&
   struct alignas(64) Bounds {
     Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
     Eigen::Vector2d high = -low;
-    std::vector<Ray> rays;
   };
   std::vector<Bounds> parts(runner.threads());
+  const double radius = options.active_region.active_region_radius;
   parallelFor(&runner, scans.size(), 16, [&](size_t i, int thread) {
     const TimedScan& scan = scans[i];
     if (!scan.scan.validate().empty()) return;
-    Bounds& part = parts[thread];
-    part.low = part.low.cwiseMin(scan.sensor_pose.position);
-    part.high = part.high.cwiseMax(scan.sensor_pose.position);
-    evidenceRays(scan, options, part.rays);
-    for (const Ray& ray : part.rays) {
-      part.low = part.low.cwiseMin(ray.end);
-      part.high = part.high.cwiseMax(ray.end);
-    }
+    // The ends of evidenceRays', ray by ray, none stored.
+    Bounds bounds = parts[thread];
+    bounds.low = bounds.low.cwiseMin(scan.sensor_pose.position);
+    bounds.high = bounds.high.cwiseMax(scan.sensor_pose.position);
+    forEachBeamRay(scan.scan, scan.sensor_pose, options.insertion, [&](Ray ray) {
+      clipRayToLength(radius, ray);
+      bounds.low = bounds.low.cwiseMin(ray.end);
+      bounds.high = bounds.high.cwiseMax(ray.end);
+    });
+    parts[thread] = bounds;
   });
   Bounds all;
   for (const Bounds& part : parts) {
@@ -68,13 +70,6 @@ Extent recordingExtent(const std::vector<TimedScan>& scans, const MapperOptions&
   extent.centre = 0.5 * (all.low + all.high);
   extent.half_side = 0.5 * (all.high - all.low).maxCoeff();
   return extent;
-}
-
-std::vector<TimedScan> centredOn(const std::vector<TimedScan>& scans, const Eigen::Vector2d& c) {
-  std::vector<TimedScan> out = scans;
-  for (TimedScan& scan : out)
-    scan.robot_pose.position = c;
-  return out;
 }
 
 // Cells that block rays (glass, metal, static) in the map, for convergence tests.
@@ -148,27 +143,28 @@ BatchResult processPlainGrid(const std::vector<TimedScan>& scans, MapperOptions 
 
 }  // namespace
 
-std::vector<TimedScan> everyNthScanOfEachSensor(const std::vector<TimedScan>& scans, int stride) {
-  std::vector<TimedScan> kept;
+std::vector<const TimedScan*> everyNthScanOfEachSensor(const std::vector<TimedScan>& scans,
+                                                       int stride) {
+  std::vector<const TimedScan*> kept;
   std::unordered_map<uint32_t, size_t> seen;  // scans of each sensor so far
   for (const TimedScan& scan : scans) {
-    if (seen[scan.sensor_id]++ % stride == 0) kept.push_back(scan);
+    if (seen[scan.sensor_id]++ % stride == 0) kept.push_back(&scan);
   }
   return kept;
 }
 
-BatchResult processBatch(const std::vector<TimedScan>& input, const MapperOptions& requested,
+BatchResult processBatch(const std::vector<TimedScan>& scans, const MapperOptions& requested,
                          BatchMode mode, const std::function<void(size_t, size_t)>& progress,
                          const std::function<void(const ReflectanceField&)>& inspect_field) {
   requested.validate();
-  const Extent extent = recordingExtent(input, requested);
+  const Extent extent = recordingExtent(scans, requested);
   if (extent.half_side + requested.grid.resolution > ActiveRegionOptions::kMaxWindowRadius) {
     throw std::invalid_argument(
         "the recording's evidence spans " + std::to_string(static_cast<int>(2 * extent.half_side)) +
         " m: the batch holds it in one window, at most " +
         std::to_string(static_cast<int>(2 * ActiveRegionOptions::kMaxWindowRadius)) + " m across");
   }
-  if (mode == BatchMode::kPlainGrid) return processPlainGrid(input, requested, extent, progress);
+  if (mode == BatchMode::kPlainGrid) return processPlainGrid(scans, requested, extent, progress);
 
   MapperOptions options = requested;
   // The mode switches stages off; it never switches on one the options disabled.
@@ -178,9 +174,9 @@ BatchResult processBatch(const std::vector<TimedScan>& input, const MapperOption
   options.reflection_removal.clearance_block_shift = 0;   // rebuilt once per pass only
   options.occupancy.beta = options.occupancy.batch_beta;  // classifies the whole recording seen
   options.active_region.window_radius = extent.half_side + options.grid.resolution;
-  const std::vector<TimedScan> scans = centredOn(input, extent.centre);
 
   Mapper mapper(options);
+  mapper.holdActiveRegionAt(extent.centre);
   BatchResult result;
   const ReflectionRemovalOptions& reflection = options.reflection_removal;
   const int passes = mode == BatchMode::kFull && reflection.reflection_removal_enabled
@@ -191,28 +187,25 @@ BatchResult processBatch(const std::vector<TimedScan>& input, const MapperOption
     if (pass + 1 == passes) return 1;
     return pass == 0 ? reflection.first_pass_scan_stride : reflection.search_pass_scan_stride;
   };
-  std::vector<std::vector<TimedScan>> sparse(passes);
-  for (int pass = 0; pass < passes; ++pass) {
-    if (stride_of(pass) > 1) sparse[pass] = everyNthScanOfEachSensor(scans, stride_of(pass));
-  }
-  auto scans_of = [&](int pass) -> const std::vector<TimedScan>& {
-    return stride_of(pass) > 1 ? sparse[pass] : scans;
-  };
+  // Each pass's scans, by pointer: the recording is not copied.
+  std::vector<std::vector<const TimedScan*>> scans_by_pass(passes);
+  for (int pass = 0; pass < passes; ++pass)
+    scans_by_pass[pass] = everyNthScanOfEachSensor(scans, stride_of(pass));
   size_t total_steps = scans.size();  // labelling
   for (int pass = 0; pass < passes; ++pass)
-    total_steps += scans_of(pass).size();
+    total_steps += scans_by_pass[pass].size();
   size_t done = 0;
   std::vector<std::set<std::pair<int, int>>> history;
   bool settled = false;  // a pass of fewer scans converged: the last pass follows at once
   for (int pass = 0; pass < passes; ++pass) {
-    const std::vector<TimedScan>& inserted = scans_of(pass);
+    const std::vector<const TimedScan*>& inserted = scans_by_pass[pass];
     if (pass > 0) mapper.restartEvidence();
     auto start = std::chrono::steady_clock::now();
     // In chunks, so the progress bar moves while the threads insert.
     constexpr size_t kChunk = 256;
     for (size_t first = 0; first < inserted.size(); first += kChunk) {
       const size_t last = std::min(inserted.size(), first + kChunk);
-      mapper.addScans(inserted.begin() + first, inserted.begin() + last);
+      mapper.addScans({inserted.begin() + first, inserted.begin() + last});
       done += last - first;
       if (progress) progress(done, total_steps);
     }
@@ -244,7 +237,7 @@ BatchResult processBatch(const std::vector<TimedScan>& input, const MapperOption
     if (stride_of(pass) == 1) break;
     settled = true;
     for (int skipped = pass + 1; skipped + 1 < passes; ++skipped)
-      total_steps -= scans_of(skipped).size();
+      total_steps -= scans_by_pass[skipped].size();
     pass = passes - 2;
   }
   done = total_steps - scans.size();

@@ -116,6 +116,7 @@ struct Mapper::Impl {
   // without their evidence changing, so motion removal's reuse of unchanged tiles skips them.
   std::vector<TileIndex> completed_tiles;
   std::vector<uint8_t> completed_storage_tiles;  // scratch: those and this run's, by storage tile
+  std::optional<Eigen::Vector2d> held_centre;    // holdActiveRegionAt
 };
 
 Mapper::Mapper(const MapperOptions& options)
@@ -146,9 +147,17 @@ ScanUpdate Mapper::addScan(const TimedScan& scan) {
 }
 
 void Mapper::addScans(ScanIterator first, ScanIterator last) {
+  std::vector<const TimedScan*> scans;
+  scans.reserve(last - first);
+  for (ScanIterator scan = first; scan != last; ++scan)
+    scans.push_back(&*scan);
+  addScans(scans);
+}
+
+void Mapper::addScans(const std::vector<const TimedScan*>& scans) {
   if (checksGlass() && !impl_->frozen.active()) {
     // The glass check reads the field as the scans before left it: one by one.
-    for (ScanIterator scan = first; scan != last; ++scan)
+    for (const TimedScan* scan : scans)
       addScan(*scan);
     return;
   }
@@ -156,7 +165,7 @@ void Mapper::addScans(ScanIterator first, ScanIterator last) {
   // (ticks read the field as the scans before them left it). A glass check against frozen
   // reflectivity reads nothing the group changes, so a group's scans make and cut their rays
   // side by side, one scan per thread, and then go in theta bin by theta bin.
-  std::vector<ScanIterator> group;
+  std::vector<const TimedScan*> group;
   std::vector<std::vector<Ray>>& rays = impl_->pending;
   auto flush = [&] {
     if (rays.size() < group.size()) rays.resize(group.size());
@@ -174,8 +183,8 @@ void Mapper::addScans(ScanIterator first, ScanIterator last) {
     }
     group.clear();
   };
-  for (ScanIterator scan = first; scan != last; ++scan) {
-    if (!group.empty() && field_.wouldRecenter(scan->robot_pose.position)) flush();
+  for (const TimedScan* scan : scans) {
+    if (!group.empty() && field_.wouldRecenter(regionCentre(*scan))) flush();
     if (!placeScan(*scan).error.empty()) continue;
     group.push_back(scan);
     if (tickDue(scan->stamp)) flush();
@@ -184,13 +193,21 @@ void Mapper::addScans(ScanIterator first, ScanIterator last) {
   if (!group.empty()) flush();
 }
 
+void Mapper::holdActiveRegionAt(const Eigen::Vector2d& centre) {
+  impl_->held_centre = centre;
+}
+
+const Eigen::Vector2d& Mapper::regionCentre(const TimedScan& scan) const {
+  return impl_->held_centre ? *impl_->held_centre : scan.robot_pose.position;
+}
+
 ScanUpdate Mapper::placeScan(const TimedScan& scan) {
   ScanUpdate update;
   update.labels.assign(scan.scan.ranges.size(), RayLabel::kNoReturn);
   update.error = scan.scan.validate();
   if (!update.error.empty()) return update;
 
-  const WindowShift shift = field_.recenter(scan.robot_pose.position, impl_->runner.get());
+  const WindowShift shift = field_.recenter(regionCentre(scan), impl_->runner.get());
   update.region_moved = shift.moved;
   if (shift.moved) {
     // Entering cells take the classes the global map remembers for them.

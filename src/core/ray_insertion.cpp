@@ -38,18 +38,6 @@ bool clipRayToBox(const CellBox& box, double resolution, Ray& ray) {
   return true;
 }
 
-void clipRayToLength(double max_length, Ray& ray) {
-  const Eigen::Vector2d delta = ray.end - ray.origin;
-  // Most rays are shorter by far: no square root for them. The margin keeps the decision the
-  // square root's wherever the squares' rounding could tell otherwise.
-  if (delta.squaredNorm() < max_length * max_length * (1.0 - 1e-9)) return;
-  const double length = delta.norm();
-  if (length > max_length) {
-    ray.end = ray.origin + delta * (max_length / length);
-    ray.hit = false;
-  }
-}
-
 void DeduplicatingRayInserter::prepare(size_t slots) {
   if (stamps_.size() != slots) {
     stamps_.assign(slots, 0);

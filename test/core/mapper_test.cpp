@@ -110,6 +110,24 @@ TEST(Mapper, GlobalMapKeepsWhatTheActiveRegionLeftBehind) {
   EXPECT_GT(mapper.stats().archived_bytes, 0u);
 }
 
+// A batch holds its recording in a window that stays where it is held, whatever the robot does.
+TEST(Mapper, HeldActiveRegionStaysWhereItIsHeld) {
+  SyntheticWorld world;
+  world.addWall({0.0, 2.0}, {40.0, 2.0});
+  world.addWall({0.0, -2.0}, {40.0, -2.0});
+  Mapper mapper(testing::scenarioOptions());
+  mapper.holdActiveRegionAt({3.0, 0.0});
+  runScenario(mapper, world, driveBy({1.0, 0.0}, {39.0, 0.0}, 0.0));
+  const GridGeometry& g = mapper.field().geometry();
+  // Unheld, the start of the corridor leaves the region (GlobalMapKeepsWhatTheActiveRegionLeft-
+  // Behind) and the robot's end is in it.
+  EXPECT_TRUE(mapper.field().inActiveRegion(g.cellOf({3.0, 0.0})));
+  EXPECT_FALSE(mapper.field().inActiveRegion(g.cellOf({39.0, 0.0})));
+  EXPECT_FALSE(mapper.field().wouldRecenter({3.0, 0.0}));
+  EXPECT_EQ(mapper.stats().archived_bytes, 0u);  // no tile ever left the region
+  EXPECT_EQ(mapper.cellClass(g.cellOf({3.0, 0.0})), CellClass::kFree);
+}
+
 // Same field, persistence and classes as addScan one by one, while the window moves, ticks
 // fall inside groups of scans and (with reflection removal) known glass cuts rays. With
 // `restart`, halfway both restart their evidence and take the scans again (batch

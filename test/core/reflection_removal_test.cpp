@@ -152,10 +152,9 @@ TEST(ReflectionRemoval, EveryNthScanOfEachSensorKeepsEachSensorsOrder) {
     scans[i].sensor_id = static_cast<uint32_t>(i % 2);
     scans[i].stamp = static_cast<double>(i);  // the scan's index
   }
-  const std::vector<TimedScan> kept = everyNthScanOfEachSensor(scans, 3);
   std::vector<double> indices;
-  for (const TimedScan& scan : kept)
-    indices.push_back(scan.stamp);
+  for (const TimedScan* scan : everyNthScanOfEachSensor(scans, 3))
+    indices.push_back(scan->stamp);
   // Sensor 0 has scans 0, 2, 4, 6, 8 (its 0th and 3rd: 0 and 6); sensor 1 has 1, 3, ... (1, 7).
   EXPECT_EQ(indices, (std::vector<double>{0, 1, 6, 7}));
   EXPECT_EQ(everyNthScanOfEachSensor(scans, 1).size(), scans.size());

@@ -37,7 +37,8 @@ struct BatchResult {
 // Every `stride`th scan of each sensor (by sensor_id), in their order: the scans a batch pass
 // that only searches for glass inserts (ReflectionRemovalOptions::first_pass_scan_stride and
 // search_pass_scan_stride).
-std::vector<TimedScan> everyNthScanOfEachSensor(const std::vector<TimedScan>& scans, int stride);
+std::vector<const TimedScan*> everyNthScanOfEachSensor(const std::vector<TimedScan>& scans,
+                                                       int stride);
 
 // Processes a whole recording: builds the map from every scan, runs motion removal and
 // iterative reflection removal over the final field and labels every beam against the final

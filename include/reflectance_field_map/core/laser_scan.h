@@ -5,6 +5,9 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -52,10 +55,52 @@ enum class BeamReading : uint8_t {
   kNoReturn,  // +inf or >= range_max: misses up to the clearing distance, no hit
 };
 
-BeamReading classifyBeam(float range, float range_min, float range_max);
+inline BeamReading classifyBeam(float range, float range_min, float range_max) {
+  if (std::isnan(range)) return BeamReading::kInvalid;
+  if (std::isinf(range)) return range > 0 ? BeamReading::kNoReturn : BeamReading::kInvalid;
+  if (range < range_min) return BeamReading::kInvalid;
+  if (range >= range_max) return BeamReading::kNoReturn;
+  return BeamReading::kReturn;
+}
 
-// Converts a scan taken at sensor_pose (fixed frame) into rays; invalid beams are skipped.
-// Rays are appended to `rays` (cleared first) in beam order.
+// Calls visit(ray) with the ray of each usable beam of a scan taken at sensor_pose (fixed
+// frame), in beam order; invalid beams are skipped. Inline, so that a caller needing only part
+// of each ray (the recording's extent needs only ends) neither stores nor computes the rest.
+template <typename Visit>
+void forEachBeamRay(const LaserScan2D& scan, const Pose2D& sensor_pose,
+                    const InsertionOptions& options, Visit&& visit) {
+  const double clearing = std::min<double>(options.clearing_distance, scan.range_max);
+  const double increment = scan.angle_increment;
+  const double first_angle = sensor_pose.yaw + scan.angle_min;
+  // Beam directions by rotating the previous one by the increment, which is far cheaper than a
+  // sincos per beam; an exact sincos every few beams keeps the rounding near 1e-15.
+  constexpr size_t kExactEvery = 32;
+  const Eigen::Vector2d step(std::cos(increment), std::sin(increment));
+  Eigen::Vector2d direction;
+  for (size_t beam = 0; beam < scan.ranges.size(); ++beam) {
+    const double angle = first_angle + beam * increment;
+    if (beam % kExactEvery == 0) {
+      direction = {std::cos(angle), std::sin(angle)};
+    } else {
+      direction = {direction.x() * step.x() - direction.y() * step.y(),
+                   direction.x() * step.y() + direction.y() * step.x()};
+    }
+    const BeamReading reading = classifyBeam(scan.ranges[beam], scan.range_min, scan.range_max);
+    if (reading == BeamReading::kInvalid) continue;
+    const bool hit = reading == BeamReading::kReturn;
+    const double length = hit ? scan.ranges[beam] : clearing;
+    if (length <= 0.0) continue;
+    Ray ray;
+    ray.angle = angle;
+    ray.origin = sensor_pose.position;
+    ray.end = ray.origin + length * direction;
+    ray.beam = static_cast<uint32_t>(beam);
+    ray.hit = hit;
+    visit(ray);
+  }
+}
+
+// The rays of forEachBeamRay, appended to `rays` (cleared first) in beam order.
 void scanToRays(const LaserScan2D& scan, const Pose2D& sensor_pose, const InsertionOptions& options,
                 std::vector<Ray>& rays);
 

@@ -8,6 +8,8 @@
 #include "reflectance_field_map/core/reflectance_field.h"
 #include "reflectance_field_map/core/scan_inserter.h"
 
+#include <Eigen/Core>
+
 #include <cstdint>
 #include <iosfwd>
 #include <memory>
@@ -80,6 +82,12 @@ class Mapper {
   // and persistence ticks are inserted theta bin by theta bin (no per-scan ScanUpdate).
   using ScanIterator = std::vector<TimedScan>::const_iterator;
   void addScans(ScanIterator first, ScanIterator last);
+  // The same for scans picked by pointer (a batch's sparser passes), none of them copied.
+  void addScans(const std::vector<const TimedScan*>& scans);
+
+  // From now on the active region stays centred on `centre`, whatever the scans' robot poses:
+  // a batch holds a whole recording in one window (reset() does not undo it).
+  void holdActiveRegionAt(const Eigen::Vector2d& centre);
 
   // Motion removal (Alg. 2) over the active region, then writes the region's classes into the
   // global map. When new glass appears, buffered scans are re-processed against it.
@@ -135,6 +143,8 @@ class Mapper {
   // (statistics, the buffer for online re-processing), which addScans calls apart because it
   // inserts a group's rays after counting its scans. makeRays and cutAtGlass only read the mapper.
   ScanUpdate placeScan(const TimedScan& scan);
+  // Where the active region is centred for `scan`: on its robot, unless held elsewhere.
+  const Eigen::Vector2d& regionCentre(const TimedScan& scan) const;
   void makeRays(const TimedScan& scan, std::vector<Ray>& rays, ScanUpdate& update) const;
   size_t cutAtGlass(std::vector<Ray>& rays, ScanUpdate& update, ParallelRunner* runner) const;
   bool checksGlass() const;

@@ -19,8 +19,19 @@ namespace rfm {
 // Clips a ray to the window's box. A ray whose end lies outside keeps its misses up to the
 // border and loses its hit. Returns false when nothing of the ray is inside.
 bool clipRayToBox(const CellBox& box, double resolution, Ray& ray);
-// Shortens a ray longer than `max_length` to that length; it then loses its hit.
-void clipRayToLength(double max_length, Ray& ray);
+// Shortens a ray longer than `max_length` to that length; it then loses its hit. Inline: every
+// ray of every pass goes through it.
+inline void clipRayToLength(double max_length, Ray& ray) {
+  const Eigen::Vector2d delta = ray.end - ray.origin;
+  // Most rays are shorter by far: no square root for them. The margin keeps the decision the
+  // square root's wherever the squares' rounding could tell otherwise.
+  if (delta.squaredNorm() < max_length * max_length * (1.0 - 1e-9)) return;
+  const double length = delta.norm();
+  if (length > max_length) {
+    ray.end = ray.origin + delta * (max_length / length);
+    ray.hit = false;
+  }
+}
 
 // The per-scan update rule shared by the RFM and the plain grid (Alg. 1): every ray adds misses
 // to the cells it passes and a hit to its end cell; within one scan each storage slot of a
