@@ -49,7 +49,7 @@ Extent recordingExtent(const std::vector<TimedScan>& scans, const MapperOptions&
   parallelFor(&runner, scans.size(), 16, [&](size_t i, int thread) {
     const TimedScan& scan = scans[i];
     if (!scan.scan.validate().empty()) return;
-    // The ends of evidenceRays', ray by ray, none stored.
+    // The ends of the rays evidenceRays would make, taken one by one, none stored.
     Bounds bounds = parts[thread];
     bounds.low = bounds.low.cwiseMin(scan.sensor_pose.position);
     bounds.high = bounds.high.cwiseMax(scan.sensor_pose.position);
