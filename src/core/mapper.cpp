@@ -105,6 +105,7 @@ struct Mapper::Impl {
   std::vector<Ray> rays;
   std::vector<std::vector<Ray>> pending;  // addScans: prepared, not yet inserted
   std::vector<CellClass> box_classes;
+  std::vector<CellClass> entering_classes;  // placeScan: a tile's classes from the global map
   MapperStats stats;
   // Cells with a departure history (ReflectanceField::tickPersistence); max: none.
   int remembered_min_bins = std::numeric_limits<int>::max();
@@ -210,13 +211,16 @@ ScanUpdate Mapper::placeScan(const TimedScan& scan) {
   const WindowShift shift = field_.recenter(regionCentre(scan), impl_->runner.get());
   update.region_moved = shift.moved;
   if (shift.moved) {
-    // Entering cells take the classes the global map remembers for them.
+    // Entering cells take the classes the global map remembers for them: a tile at a time (a
+    // batch's window enters whole, every pass).
+    std::vector<CellClass>& remembered = impl_->entering_classes;
     for (const TileIndex& tile : shift.entered) {
       const CellBox box = field_.window().tileBox(tile);
+      map_.extract(box, remembered);
+      size_t i = 0;
       for (int y = box.min.y(); y < box.max.y(); ++y) {
-        for (int x = box.min.x(); x < box.max.x(); ++x) {
-          impl_->classes[field_.window().storageIndex({x, y})] = map_.get({x, y});
-        }
+        for (int x = box.min.x(); x < box.max.x(); ++x)
+          impl_->classes[field_.window().storageIndex({x, y})] = remembered[i++];
       }
     }
     if (!impl_->buffer.empty()) impl_->buffer.clear();  // rays refer to the old window

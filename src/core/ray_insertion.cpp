@@ -4,18 +4,13 @@
 
 namespace rfm {
 
-bool clipRayToBox(const CellBox& box, double resolution, Ray& ray) {
-  // Liang-Barsky against the box shrunk by a hair, so clipped points stay in its cells.
+bool clipRayLeavingBox(const CellBox& box, double resolution, Ray& ray) {
+  // Liang-Barsky against the box shrunk by a hair, as clipRayToBox's test.
   const double margin = 1e-6 * resolution;
   const Eigen::Vector2d low =
       box.min.cast<double>() * resolution + Eigen::Vector2d::Constant(margin);
   const Eigen::Vector2d high =
       box.max.cast<double>() * resolution - Eigen::Vector2d::Constant(margin);
-  // Most rays lie inside: nothing to clip.
-  if ((ray.origin.array() >= low.array()).all() && (ray.origin.array() <= high.array()).all() &&
-      (ray.end.array() >= low.array()).all() && (ray.end.array() <= high.array()).all()) {
-    return true;
-  }
   const Eigen::Vector2d delta = ray.end - ray.origin;
   double t_enter = 0.0, t_exit = 1.0;
   for (int axis = 0; axis < 2; ++axis) {

@@ -60,6 +60,41 @@ TEST(ClipRayToLength, CutsOnlyRaysLongerThanTheRange) {
   }
 }
 
+// Rays inside the box are left as they are; a ray reaching the border's hair-wide margin, or
+// beyond, is cut inside it and loses its hit, and one from outside starts at the border.
+TEST(ClipRayToBox, KeepsRaysInsideAndCutsThemInsideTheBorder) {
+  constexpr double kResolution = 0.05;
+  const CellBox box{{0, 0}, {20, 20}};  // 1 m
+  const GridGeometry geometry(kResolution, 180);
+  auto clipped = [&](const Eigen::Vector2d& from, const Eigen::Vector2d& to, bool& inside) {
+    Ray ray;
+    ray.origin = from;
+    ray.end = to;
+    ray.hit = true;
+    inside = clipRayToBox(box, kResolution, ray);
+    return ray;
+  };
+  bool inside = false;
+  Ray ray = clipped({0.5, 0.5}, {0.9, 0.7}, inside);
+  EXPECT_TRUE(inside);
+  EXPECT_TRUE(ray.hit);
+  EXPECT_EQ(ray.end, Eigen::Vector2d(0.9, 0.7));
+  // Inside the box, but within its margin (5e-8 m) of the border: its cell would be the last.
+  for (const Eigen::Vector2d& end : {Eigen::Vector2d(1.0 - 1e-8, 0.5), Eigen::Vector2d(1.5, 0.5)}) {
+    ray = clipped({0.5, 0.5}, end, inside);
+    EXPECT_TRUE(inside);
+    EXPECT_FALSE(ray.hit) << end.x();
+    EXPECT_LT(ray.end.x(), 1.0 - 1e-8) << end.x();
+    EXPECT_TRUE(box.contains(geometry.cellOf(ray.end))) << end.x();
+  }
+  ray = clipped({-0.5, 0.5}, {0.5, 0.5}, inside);
+  EXPECT_TRUE(inside);
+  EXPECT_TRUE(ray.hit);
+  EXPECT_NEAR(ray.origin.x(), 0.0, 1e-6);
+  clipped({1.5, 1.5}, {2.0, 2.0}, inside);
+  EXPECT_FALSE(inside);
+}
+
 TEST(ScanInserter, EachRayUpdatesOnlyItsThetaSlice) {
   Fixture f;
   f.inserter.insert({makeRay({0.01, 0.01}, {1.01, 0.01}, true)}, f.field);
