@@ -13,6 +13,8 @@ constexpr uint32_t kMapMagic = 0x52464d47;  // "RFMG"
 GlobalMap2D::GlobalMap2D(int tile_cells) : tile_cells_(tile_cells) {}
 
 CellClass GlobalMap2D::get(const CellIndex& cell) const {
+  // Beyond every tile (where the ends of long beams are judged): no hashing needed to tell.
+  if (!bounds_.contains(cell)) return CellClass::kUnknown;
   const TileIndex tile = tileOf(cell);
   auto it = tiles_.find(key(tile));
   if (it == tiles_.end()) return CellClass::kUnknown;
