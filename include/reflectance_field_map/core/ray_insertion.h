@@ -33,6 +33,7 @@ inline bool clipRayToBox(const CellBox& box, double resolution, Ray& ray) {
                       ray.end.x() <= high_x && ray.end.y() >= low_y && ray.end.y() <= high_y;
   return inside || clipRayLeavingBox(box, resolution, ray);
 }
+
 // Shortens a ray longer than `max_length` to that length; it then loses its hit. Inline: every
 // ray of every pass goes through it.
 inline void clipRayToLength(double max_length, Ray& ray) {
