@@ -22,11 +22,22 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
       .count();
 }
 
-// A scan's rays as far as they add evidence: within the active-region radius, as live.
+// Calls visit(ray) for each of a scan's rays as far as it adds evidence: within the
+// active-region radius, as live.
+template <typename Visit>
+void forEachEvidenceRay(const TimedScan& scan, const MapperOptions& options, Visit&& visit) {
+  const double radius = options.active_region.active_region_radius;
+  forEachBeamRay(scan.scan, scan.sensor_pose, options.insertion, [&](Ray ray) {
+    clipRayToLength(radius, ray);
+    visit(ray);
+  });
+}
+
+// Those rays, in beam order, in `rays` (cleared first).
 void evidenceRays(const TimedScan& scan, const MapperOptions& options, std::vector<Ray>& rays) {
-  scanToRays(scan.scan, scan.sensor_pose, options.insertion, rays);
-  for (Ray& ray : rays)
-    clipRayToLength(options.active_region.active_region_radius, ray);
+  rays.clear();
+  rays.reserve(scan.scan.ranges.size());
+  forEachEvidenceRay(scan, options, [&rays](const Ray& ray) { rays.push_back(ray); });
 }
 
 // The square region holding every sensor origin and all evidence (rays up to the active-region
@@ -45,16 +56,14 @@ Extent recordingExtent(const std::vector<TimedScan>& scans, const MapperOptions&
     Eigen::Vector2d high = -low;
   };
   std::vector<Bounds> parts(runner.threads());
-  const double radius = options.active_region.active_region_radius;
   parallelFor(&runner, scans.size(), 16, [&](size_t i, int thread) {
     const TimedScan& scan = scans[i];
     if (!scan.scan.validate().empty()) return;
-    // The ends of the rays evidenceRays would make, taken one by one, none stored.
+    // The rays' ends, taken one by one, none stored.
     Bounds bounds = parts[thread];
     bounds.low = bounds.low.cwiseMin(scan.sensor_pose.position);
     bounds.high = bounds.high.cwiseMax(scan.sensor_pose.position);
-    forEachBeamRay(scan.scan, scan.sensor_pose, options.insertion, [&](Ray ray) {
-      clipRayToLength(radius, ray);
+    forEachEvidenceRay(scan, options, [&](const Ray& ray) {
       bounds.low = bounds.low.cwiseMin(ray.end);
       bounds.high = bounds.high.cwiseMax(ray.end);
     });

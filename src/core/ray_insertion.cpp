@@ -4,13 +4,8 @@
 
 namespace rfm {
 
-bool clipRayLeavingBox(const CellBox& box, double resolution, Ray& ray) {
-  // Liang-Barsky against the box shrunk by a hair, as clipRayToBox's test.
-  const double margin = 1e-6 * resolution;
-  const Eigen::Vector2d low =
-      box.min.cast<double>() * resolution + Eigen::Vector2d::Constant(margin);
-  const Eigen::Vector2d high =
-      box.max.cast<double>() * resolution - Eigen::Vector2d::Constant(margin);
+bool clipRayLeavingBox(const Eigen::Vector2d& low, const Eigen::Vector2d& high, Ray& ray) {
+  // Liang-Barsky.
   const Eigen::Vector2d delta = ray.end - ray.origin;
   double t_enter = 0.0, t_exit = 1.0;
   for (int axis = 0; axis < 2; ++axis) {

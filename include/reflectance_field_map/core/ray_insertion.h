@@ -16,14 +16,15 @@
 
 namespace rfm {
 
-// Clips a ray that leaves the box (clipRayToBox); rays inside it go through the inline test.
-bool clipRayLeavingBox(const CellBox& box, double resolution, Ray& ray);
+// clipRayToBox's clip proper, for a ray not inside [low, high] (the box shrunk by its margin).
+bool clipRayLeavingBox(const Eigen::Vector2d& low, const Eigen::Vector2d& high, Ray& ray);
 
 // Clips a ray to the window's box. A ray whose end lies outside keeps its misses up to the
 // border and loses its hit. Returns false when nothing of the ray is inside. Inline: every ray
 // of every pass is tested, and nearly all lie inside.
 inline bool clipRayToBox(const CellBox& box, double resolution, Ray& ray) {
-  // Against the box shrunk by a hair, so clipped points stay in its cells.
+  // Against the box shrunk by a hair, so clipped points stay in its cells. In scalars: with
+  // Eigen's, the compiler stopped inlining the test.
   const double margin = 1e-6 * resolution;
   const double low_x = box.min.x() * resolution + margin, low_y = box.min.y() * resolution + margin;
   const double high_x = box.max.x() * resolution - margin;
@@ -31,7 +32,7 @@ inline bool clipRayToBox(const CellBox& box, double resolution, Ray& ray) {
   const bool inside = ray.origin.x() >= low_x && ray.origin.x() <= high_x &&
                       ray.origin.y() >= low_y && ray.origin.y() <= high_y && ray.end.x() >= low_x &&
                       ray.end.x() <= high_x && ray.end.y() >= low_y && ray.end.y() <= high_y;
-  return inside || clipRayLeavingBox(box, resolution, ray);
+  return inside || clipRayLeavingBox({low_x, low_y}, {high_x, high_y}, ray);
 }
 
 // Shortens a ray longer than `max_length` to that length; it then loses its hit. Inline: every
