@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 namespace rfm {
@@ -79,6 +80,26 @@ TEST(FirstPassThroughDistance, StopsWhereTheRayCrossesGlassOrAStaticSurface) {
     return c.x() == glass.x() && c.y() >= glass.y() ? CellClass::kGlass : CellClass::kFree;
   };
   EXPECT_LT(firstPassThroughDistance(ray, g, 0.15, pane_ending_here, never), 0.0);
+}
+
+// A static wall that returns rays in a beam's direction would have returned that beam: a beam
+// without a return that crosses it was a dropout, and nothing beyond the wall was observed. A
+// return beyond the same wall is a grazed wall cell, as above.
+TEST(FirstPassThroughDistance, ABeamWithoutAReturnStopsAtAWallThatReflectsItsDirection) {
+  const GridGeometry g(0.05, 180);
+  Ray ray;
+  ray.origin = {0.01, 0.01};
+  ray.end = {3.01, 0.01};
+  ray.angle = 0.0;
+  const CellIndex wall = g.cellOf({1.0, 0.01});
+  auto class_of = [&](const CellIndex& c) {
+    return c.x() == wall.x() ? CellClass::kStatic : CellClass::kFree;
+  };
+  auto always = [](const CellIndex&, int) { return true; };
+  ray.hit = false;
+  EXPECT_NEAR(firstPassThroughDistance(ray, g, 0.15, class_of, always), 1.025 - 0.01, 1e-9);
+  ray.hit = true;
+  EXPECT_LT(firstPassThroughDistance(ray, g, 0.15, class_of, always), 0.0);
 }
 
 // A framed glass pane 2 m from the line x = 0 with a wall 2 m behind it, and the robot's drive
@@ -372,6 +393,32 @@ TEST(ReflectionRemoval, OnlineScansThroughKnownGlassAreReflections) {
               cut.labels[i] == RayLabel::kReflection ? RayLabel::kReflection : by_map[i])
         << "beam " << i;
   }
+}
+
+// The robot maps a wall, then its laser returns nothing from it (a dark stretch, dropouts): the
+// beams clear up to the clearing distance, but only up to the wall. The cells behind it stay
+// unknown, and the node publishes the beams as NO_RETURN.
+TEST(ReflectionRemoval, BeamsWithoutAReturnClearNothingBehindAWall) {
+  SyntheticWorld world;
+  world.addWall({2.0, -6.0}, {2.0, 6.0});
+  Mapper mapper(testing::scenarioOptions());
+  runScenario(mapper, world, driveBy({0.0, -3.0}, {0.0, 3.0}, 0.0));
+  const CellIndex behind = mapper.field().geometry().cellOf({2.6, 0.0});
+  ASSERT_EQ(mapper.cellClass(behind), CellClass::kUnknown);
+  for (int i = 0; i < 40; ++i) {
+    TimedScan dark = world.timedScan({{0.0, 0.0}, 0.0}, 10.0 + 0.025 * i);
+    std::fill(dark.scan.ranges.begin(), dark.scan.ranges.end(),
+              std::numeric_limits<float>::infinity());
+    const ScanUpdate update = mapper.addScan(dark);
+    ASSERT_TRUE(update.error.empty()) << update.error;
+    const std::vector<RayLabel> published = mapper.labelAddedScan(dark, update);
+    EXPECT_EQ(std::count(published.begin(), published.end(), RayLabel::kNoReturn),
+              static_cast<long>(published.size()));
+  }
+  mapper.removeMotion();
+  EXPECT_EQ(mapper.cellClass(behind), CellClass::kUnknown);
+  EXPECT_EQ(mapper.cellClass(mapper.field().geometry().cellOf({1.0, 0.0})), CellClass::kFree);
+  EXPECT_TRUE(isObstacle(mapper.cellClass(mapper.field().geometry().cellOf({2.0, 0.0}))));
 }
 
 // Eight neighbouring beams leap together on the middle one's clearance: the fan widens with

@@ -17,14 +17,15 @@ inline bool blocksRays(CellClass c) {
 // Reflection check of Alg. 3, fed cell by cell along a ray: finds the first blocking cell the
 // ray passes through. A blocking cell is glass or metal, or static and not reflective in the
 // ray's direction (reflective_near), that the ray passes through near its centre (not a clipped
-// corner). Passing through means crossing it: the ray comes out into a
-// non-obstacle cell more than `penetration_tolerance` before its end. A ray grazing along a wall
-// stays inside the wall's cells up to its end, and a ray ending on a surface ends within the
-// tolerance: neither counts.
+// corner). For a ray without a return every static cell blocks: structure that reflects in its
+// direction would have returned it (a dropout), so nothing beyond was observed. Passing through
+// means crossing it: the ray comes out into a non-obstacle cell more than `penetration_tolerance`
+// before its end. A ray grazing along a wall stays inside the wall's cells up to its end, and a
+// ray ending on a surface ends within the tolerance: neither counts.
 class PassThroughDetector {
  public:
   PassThroughDetector(const Ray& ray, const GridGeometry& geometry, double penetration_tolerance)
-      : geometry_(geometry), origin_(ray.origin), angle_(ray.angle) {
+      : geometry_(geometry), origin_(ray.origin), angle_(ray.angle), returned_(ray.hit) {
     const Eigen::Vector2d delta = ray.end - ray.origin;
     const double length = delta.norm();
     direction_ = length > 0.0 ? Eigen::Vector2d(delta / length) : Eigen::Vector2d(1.0, 0.0);
@@ -46,7 +47,7 @@ class PassThroughDetector {
     }
     if (blocked_at_ < 0.0) {
       const bool blocking = c == CellClass::kGlass || c == CellClass::kMetal ||
-                            (c == CellClass::kStatic && !reflective_near(bin()));
+                            (c == CellClass::kStatic && (!returned_ || !reflective_near(bin())));
       if (blocking && passesNearCentre(cell) && crossesASurface(cell, class_of)) {
         blocked_at_ = along;
       }
@@ -107,6 +108,7 @@ class PassThroughDetector {
   Eigen::Vector2d origin_;
   Eigen::Vector2d direction_;
   double angle_;
+  bool returned_;  // the ray ends in a return (a hit), not at the clearing distance
   int bin_ = -1;
   double last_candidate_ = 0.0;
   double blocked_at_ = -1.0;
