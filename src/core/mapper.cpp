@@ -250,7 +250,7 @@ size_t Mapper::cutAtGlass(std::vector<Ray>& rays, ScanUpdate& update,
     double distances[kChunk];
     passThroughDistances(&rays[first], count, distances);
     for (size_t i = first; i < first + count; ++i) {
-      const bool returned = rays[i].hit;  // a beam without a return stays NO_RETURN when cut
+      const bool returned = rays[i].hit;  // only a return can be a reflection
       if (cutAtDistance(distances[i - first], rays[i]) && returned) {
         update.labels[rays[i].beam] = RayLabel::kReflection;
       }

@@ -15,7 +15,7 @@
 namespace rfm_test {
 
 // Waits (spinning in the background) until `done` holds or `seconds` of wall time pass.
-bool waitFor(const std::function<bool()>& done, double seconds) {
+inline bool waitFor(const std::function<bool()>& done, double seconds) {
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(seconds);
   while (ros::ok() && ros::WallTime::now() < deadline) {
     if (done()) return true;
@@ -79,6 +79,10 @@ struct MapCopy {
       }
     }
     return false;
+  }
+  ros::Time lastChange() {
+    std::lock_guard<std::mutex> lock(mutex);
+    return last_change;
   }
   int countOccupied() {
     std::lock_guard<std::mutex> lock(mutex);
