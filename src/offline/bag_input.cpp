@@ -122,7 +122,7 @@ void readStretch(rosbag::View& view, const std::map<std::string, uint32_t>& topi
     TimedScan scan;
     scan.sensor_id = source.topic_index;
     scan.stamp = source.stamp.toSec();
-    scan.scan = reflectance_field_map::toLaserScan2D(*msg);
+    scan.scan = ros_glue::toLaserScan2D(*msg);
     // The node rejects these; a recording is taken as it is (none of its scans dropped).
     source.reversed = scan.scan.angle_increment < 0.0f && !scan.scan.ranges.empty();
     if (source.reversed) reverseBeamOrder(scan.scan);
@@ -313,8 +313,7 @@ BagScans readBagScans(const BagInputOptions& options,
       } else {
         const geometry_msgs::TransformStamped laser =
             tf.lookupTransform(fixed_frame, frame, source.stamp);
-        const reflectance_field_map::PlanarSensorPose sensor =
-            reflectance_field_map::toPlanarSensorPose(laser.transform);
+        const ros_glue::PlanarSensorPose sensor = ros_glue::toPlanarSensorPose(laser.transform);
         scan.sensor_pose = sensor.pose;
         if (sensor.upside_down) {
           mirrorScan(scan.scan);
@@ -327,8 +326,8 @@ BagScans readBagScans(const BagInputOptions& options,
       } else if (!bag_has_tf) {
         scan.robot_pose = scan.sensor_pose;  // stationary sensor: it is the centre
       } else {
-        scan.robot_pose = reflectance_field_map::toPose2D(
-            tf.lookupTransform(fixed_frame, base_frame, source.stamp).transform);
+        scan.robot_pose =
+            ros_glue::toPose2D(tf.lookupTransform(fixed_frame, base_frame, source.stamp).transform);
       }
     } catch (const tf2::TransformException& e) {
       no_tf.add(source.topic_index, "t=" + stampText(source.stamp) + ": " + e.what());

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <limits>
 
-namespace reflectance_field_map {
+namespace rfm::ros_glue {
 
 double yawFromQuaternion(const geometry_msgs::Quaternion& q) {
   return std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
@@ -62,9 +62,10 @@ sensor_msgs::LaserScan filterScan(const sensor_msgs::LaserScan& scan,
   return out;
 }
 
-RayLabels toRayLabelsMsg(const std_msgs::Header& header, const std::string& topic,
-                         const std::vector<rfm::RayLabel>& labels) {
-  RayLabels msg;
+reflectance_field_map::RayLabels toRayLabelsMsg(const std_msgs::Header& header,
+                                                const std::string& topic,
+                                                const std::vector<rfm::RayLabel>& labels) {
+  reflectance_field_map::RayLabels msg;
   msg.header = header;
   msg.scan_topic = topic;
   msg.labels.reserve(labels.size());
@@ -189,4 +190,4 @@ visualization_msgs::Marker toCubeList(const rfm::GlobalMap2D& map, const rfm::Ce
   return toCubeList(cells, box, cell_class, resolution, frame, stamp, ns, id);
 }
 
-}  // namespace reflectance_field_map
+}  // namespace rfm::ros_glue

@@ -9,7 +9,7 @@
 #include <limits>
 #include <sstream>
 
-namespace reflectance_field_map {
+namespace rfm::ros_glue {
 namespace {
 
 bool fail(std::string* error, const std::string& message) {
@@ -123,4 +123,4 @@ bool loadMapperState(const std::string& path, rfm::Mapper& mapper, std::string* 
   return true;
 }
 
-}  // namespace reflectance_field_map
+}  // namespace rfm::ros_glue

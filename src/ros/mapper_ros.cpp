@@ -16,7 +16,7 @@
 #include <limits>
 #include <sstream>
 
-namespace reflectance_field_map {
+namespace rfm::ros_glue {
 namespace {
 
 constexpr char kMapTopic[] = "/rfm/map";
@@ -102,7 +102,7 @@ void MapperRos::setRosInterfaces() {
   map_update_pub_ = nh_.advertise<map_msgs::OccupancyGridUpdate>(kMapUpdatesTopic, 10);
   glass_pub_ = nh_.advertise<visualization_msgs::MarkerArray>(kGlassMarkersTopic, 1, true);
   motion_pub_ = nh_.advertise<visualization_msgs::MarkerArray>(kMotionMarkersTopic, 1, true);
-  stats_pub_ = nh_.advertise<RfmStats>(kStatsTopic, 10);
+  stats_pub_ = nh_.advertise<reflectance_field_map::RfmStats>(kStatsTopic, 10);
 
   const uint32_t queue = static_cast<uint32_t>(params_.tf_queue_size);
   for (size_t i = 0; i < params_.scan_topics.size(); ++i) {
@@ -112,7 +112,8 @@ void MapperRos::setRosInterfaces() {
     in.topic = params_.scan_topics[i];
     in.leaf = topicLeaf(in.topic);
     in.filtered_pub = nh_.advertise<sensor_msgs::LaserScan>("/rfm/" + in.leaf + "/filtered", 10);
-    in.labels_pub = nh_.advertise<RayLabels>("/rfm/" + in.leaf + "/labels", 10);
+    in.labels_pub =
+        nh_.advertise<reflectance_field_map::RayLabels>("/rfm/" + in.leaf + "/labels", 10);
 
     in.tf_filter =
         std::make_unique<ScanFilter>(in.valid, *tf_buffer_, params_.fixed_frame, queue, nh_);
@@ -367,7 +368,7 @@ void MapperRos::publishMarkersLocked() {
 }
 
 void MapperRos::statsTimer(const ros::TimerEvent&) {
-  RfmStats msg;
+  reflectance_field_map::RfmStats msg;
   {
     std::lock_guard<std::mutex> lock(mapper_mutex_);
     const rfm::MapperStats stats = mapper_->stats();
@@ -442,7 +443,8 @@ void MapperRos::diagnosticsTimer(const ros::WallTimerEvent&) {
   diagnostics_->force_update();
 }
 
-bool MapperRos::saveMap(SaveMap::Request& request, SaveMap::Response& response) {
+bool MapperRos::saveMap(reflectance_field_map::SaveMap::Request& request,
+                        reflectance_field_map::SaveMap::Response& response) {
   const std::string prefix = expandHome(request.path);
   std::string error;
   {
@@ -464,7 +466,8 @@ bool MapperRos::saveMap(SaveMap::Request& request, SaveMap::Response& response) 
   return true;
 }
 
-bool MapperRos::loadMap(LoadMap::Request& request, LoadMap::Response& response) {
+bool MapperRos::loadMap(reflectance_field_map::LoadMap::Request& request,
+                        reflectance_field_map::LoadMap::Response& response) {
   const std::string path = expandHome(request.path);
   std::string error;
   {
@@ -572,4 +575,4 @@ void MapperRos::diagnoseMapper(diagnostic_updater::DiagnosticStatusWrapper& stat
   status.add("Time jumps (total)", jumps);
 }
 
-}  // namespace reflectance_field_map
+}  // namespace rfm::ros_glue

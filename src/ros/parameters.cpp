@@ -7,7 +7,7 @@
 #include <set>
 #include <sstream>
 
-namespace reflectance_field_map {
+namespace rfm::ros_glue {
 namespace {
 
 std::string str(double value) {
@@ -231,4 +231,4 @@ std::vector<std::string> unknownParameters(const ros::NodeHandle& private_nh) {
   return unknown;
 }
 
-}  // namespace reflectance_field_map
+}  // namespace rfm::ros_glue

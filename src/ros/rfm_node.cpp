@@ -9,11 +9,11 @@ int main(int argc, char** argv) {
   ros::init(argc, argv, "rfm_node");
   ros::NodeHandle nh;
   ros::NodeHandle private_nh("~");
-  std::unique_ptr<reflectance_field_map::MapperRos> mapper;
+  std::unique_ptr<rfm::ros_glue::MapperRos> mapper;
   try {
-    mapper = std::make_unique<reflectance_field_map::MapperRos>(nh, private_nh);
+    mapper = std::make_unique<rfm::ros_glue::MapperRos>(nh, private_nh);
   } catch (const rfm::InvalidOption& e) {
-    ROS_FATAL("rfm_node: %s", reflectance_field_map::MapperRos::describeParameterError(e).c_str());
+    ROS_FATAL("rfm_node: %s", rfm::ros_glue::MapperRos::describeParameterError(e).c_str());
     return 2;
   } catch (const std::exception& e) {
     ROS_FATAL("rfm_node: cannot start: %s", e.what());

@@ -6,7 +6,7 @@
 
 #include <memory>
 
-namespace reflectance_field_map {
+namespace rfm::ros_glue {
 
 class RfmNodelet : public nodelet::Nodelet {
  private:
@@ -26,6 +26,6 @@ class RfmNodelet : public nodelet::Nodelet {
   std::unique_ptr<MapperRos> mapper_;
 };
 
-}  // namespace reflectance_field_map
+}  // namespace rfm::ros_glue
 
-PLUGINLIB_EXPORT_CLASS(reflectance_field_map::RfmNodelet, nodelet::Nodelet)
+PLUGINLIB_EXPORT_CLASS(rfm::ros_glue::RfmNodelet, nodelet::Nodelet)

@@ -1,10 +1,10 @@
 #pragma once
 
-#include "reflectance_field_map/RayLabels.h"
 #include "reflectance_field_map/core/cell_class.h"
 #include "reflectance_field_map/core/global_map.h"
 #include "reflectance_field_map/core/grid_geometry.h"
 #include "reflectance_field_map/core/laser_scan.h"
+#include "reflectance_field_map/RayLabels.h"
 
 #include <geometry_msgs/Quaternion.h>
 #include <geometry_msgs/Transform.h>
@@ -18,7 +18,7 @@
 #include <vector>
 
 // Free conversion functions between ROS messages and the ROS-free core types.
-namespace reflectance_field_map {
+namespace rfm::ros_glue {
 
 // Yaw (rotation about z, REP-103) of a quaternion; the quaternion need not be normalised.
 double yawFromQuaternion(const geometry_msgs::Quaternion& q);
@@ -46,8 +46,9 @@ std::vector<rfm::RayLabel> toMessageOrder(std::vector<rfm::RayLabel> labels, boo
 sensor_msgs::LaserScan filterScan(const sensor_msgs::LaserScan& scan,
                                   const std::vector<rfm::RayLabel>& labels);
 
-RayLabels toRayLabelsMsg(const std_msgs::Header& header, const std::string& topic,
-                         const std::vector<rfm::RayLabel>& labels);
+reflectance_field_map::RayLabels toRayLabelsMsg(const std_msgs::Header& header,
+                                                const std::string& topic,
+                                                const std::vector<rfm::RayLabel>& labels);
 
 // Occupancy values (-1/0/100, rfm::occupancyValue) of `box`, row-major, x fastest.
 void toOccupancyData(const rfm::GlobalMap2D& map, const rfm::CellBox& box,
@@ -81,4 +82,4 @@ visualization_msgs::Marker toCubeList(const std::vector<rfm::CellClass>& cells,
                                       double resolution, const std::string& frame,
                                       const ros::Time& stamp, const std::string& ns, int id);
 
-}  // namespace reflectance_field_map
+}  // namespace rfm::ros_glue

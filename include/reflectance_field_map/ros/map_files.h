@@ -7,7 +7,7 @@
 #include <string>
 
 // Map files on disk, shared by the live node and the offline tool.
-namespace reflectance_field_map {
+namespace rfm::ros_glue {
 
 // map_server format: PREFIX.pgm (P5, 254 free, 0 occupied, 205 unknown, top row = highest y)
 // and PREFIX.yaml (image, resolution, origin, negate 0, occupied_thresh 0.65,
@@ -27,4 +27,4 @@ bool saveMapFiles(const std::string& prefix, const rfm::Mapper& mapper, const st
 // failure.
 bool loadMapperState(const std::string& path, rfm::Mapper& mapper, std::string* error);
 
-}  // namespace reflectance_field_map
+}  // namespace rfm::ros_glue

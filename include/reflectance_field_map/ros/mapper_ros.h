@@ -1,8 +1,8 @@
 #pragma once
 
+#include "reflectance_field_map/core/mapper.h"
 #include "reflectance_field_map/LoadMap.h"
 #include "reflectance_field_map/SaveMap.h"
-#include "reflectance_field_map/core/mapper.h"
 #include "reflectance_field_map/ros/parameters.h"
 
 #include <diagnostic_updater/diagnostic_updater.h>
@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-namespace reflectance_field_map {
+namespace rfm::ros_glue {
 
 // The live Reflectance Field Map front-end shared by rfm_node and the RfmNodelet: owns one
 // rfm::Mapper, feeds it the scans of every scan topic once TF knows the laser and the robot at
@@ -87,8 +87,10 @@ class MapperRos {
   void watchdogTimer(const ros::WallTimerEvent& event);
   void diagnosticsTimer(const ros::WallTimerEvent& event);
 
-  bool saveMap(SaveMap::Request& request, SaveMap::Response& response);
-  bool loadMap(LoadMap::Request& request, LoadMap::Response& response);
+  bool saveMap(reflectance_field_map::SaveMap::Request& request,
+               reflectance_field_map::SaveMap::Response& response);
+  bool loadMap(reflectance_field_map::LoadMap::Request& request,
+               reflectance_field_map::LoadMap::Response& response);
   bool reset(std_srvs::Trigger::Request& request, std_srvs::Trigger::Response& response);
 
   // ROS time went back (a looping bag): clears TF and the queued scans and resets the mapper.
@@ -140,4 +142,4 @@ class MapperRos {
   ros::Time newest_time_;  // newest ROS time seen, to detect jumps back
 };
 
-}  // namespace reflectance_field_map
+}  // namespace rfm::ros_glue

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace reflectance_field_map {
+namespace rfm::ros_glue {
 
 // Everything the live mapper (node and nodelet) reads from its private namespace. Defaults and
 // allowed ranges are documented in config/default.yaml; the core options are read through
@@ -46,4 +46,4 @@ std::string topicLeaf(const std::string& topic);
 // Frame id without a leading slash (tf2 rejects it).
 std::string normalizeFrame(const std::string& frame);
 
-}  // namespace reflectance_field_map
+}  // namespace rfm::ros_glue
