@@ -29,24 +29,6 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
       .count();
 }
 
-// How many whole `unit`s cover `value` (rounded up; exact multiples are not rounded past).
-int unitsIn(double value, double unit) {
-  return static_cast<int>(std::ceil(value / unit - 1e-9));
-}
-
-AnchorRules anchorRules(const MapperOptions& options, const GridGeometry& geometry) {
-  const MotionRemovalOptions& motion = options.motion_removal;
-  const double tick = 1.0 / motion.motion_removal_rate;
-  AnchorRules rules;
-  rules.persistence_ticks = unitsIn(motion.persistence_time, tick);
-  rules.persistence_min_cells = unitsIn(motion.persistence_min_length, options.grid.resolution);
-  rules.departure_min_bins = unitsIn(motion.departure_min_angle, geometry.binWidth());
-  rules.departure_vacant_ticks = unitsIn(motion.departure_vacant_time, tick);
-  rules.opaque_min_bins = unitsIn(motion.opaque_min_angle, geometry.binWidth());
-  rules.opaque_min_cells = unitsIn(motion.opaque_min_length, options.grid.resolution);
-  return rules;
-}
-
 // Metres along a ray (unit `direction`) per cell along its major axis. No cell within Chebyshev
 // distance c of a cell blocks: then neither does the ray's stretch of c of these from any point
 // of that cell, which on a diagonal is 1.41 cells long.
@@ -67,7 +49,9 @@ struct BufferedScan {
 struct Mapper::Impl {
   Impl(const MapperOptions& options, const ReflectanceField& field)
       : rule(options.occupancy, field.geometry().binWidth()),
-        remover(rule, anchorRules(options, field.geometry())),
+        remover(rule, AnchorRules::fromOptions(options.motion_removal, field.geometry(), rule,
+                                               field.logOdds())),
+        anchor_history(field),
         runner(std::make_shared<ParallelRunner>(options.insertion.insertion_threads)),
         inserter(runner),
         classes(static_cast<size_t>(field.window().sizeCells()) * field.window().sizeCells(),
@@ -75,22 +59,11 @@ struct Mapper::Impl {
         clearance(options.reflection_removal.clearance_block_shift),
         completion(field.geometry(), options.reflection_removal.reflection_removal_enabled
                                          ? options.reflection_removal.glass_completion_max_gap
-                                         : 0.0) {
-    // Departures read the history of the cells that could be widely visible (no fewer bins
-    // can be). Not of cells merely confirmed for the persistence time: glass confirmed that way
-    // is seen through in its jittered lobe's edge bins later, which reads as a departure.
-    const AnchorRules& anchors = remover.anchors();
-    if (anchors.departure_min_bins > 0 || anchors.departure_vacant_ticks > 0) {
-      remembered_min_bins =
-          rule.minWidelyVisibleBins(field.logOdds(), field.geometry().thetaBins());
-    }
-    // Those confirmed cells are watched only in the bins they were certain in, which glass
-    // keeps returning in (abandonedTicksAt).
-    if (anchors.departure_vacant_ticks > 0) confirmed_min_ticks = anchors.persistence_ticks;
-  }
+                                         : 0.0) {}
 
   OccupancyRule rule;
   MotionRemover remover;
+  AnchorHistory anchor_history;
   // The mapper's threads (insertion_threads), for one job at a time: insertion (by theta bin),
   // re-centring (by tile), the reflection check (by ray), motion removal (by band of rows) and
   // batch labelling (by scan).
@@ -107,10 +80,6 @@ struct Mapper::Impl {
   std::vector<CellClass> box_classes;
   std::vector<CellClass> entering_classes;  // placeScan: a tile's classes from the global map
   MapperStats stats;
-  // Cells with a departure history (ReflectanceField::tickPersistence); max: none.
-  int remembered_min_bins = std::numeric_limits<int>::max();
-  // Cells confirmed this many ticks get a certainty history; 0: none.
-  int confirmed_min_ticks = 0;
   FrozenReflectivity frozen;  // set by restartEvidence until the next removeMotion
   GlassCompletion completion;
   // Tiles holding cells completed as glass at the last motion removal: their classes changed
@@ -127,6 +96,10 @@ Mapper::Mapper(const MapperOptions& options)
       impl_(std::make_unique<Impl>(options, field_)) {}
 
 Mapper::~Mapper() = default;
+
+const AnchorHistory& Mapper::anchorHistory() const {
+  return impl_->anchor_history;
+}
 
 CellClass Mapper::cellClass(const CellIndex& cell) const {
   if (field_.inActiveRegion(cell)) return impl_->classes[field_.window().storageIndex(cell)];
@@ -211,6 +184,7 @@ ScanUpdate Mapper::placeScan(const TimedScan& scan) {
   const WindowShift shift = field_.recenter(regionCentre(scan), impl_->runner.get());
   update.region_moved = shift.moved;
   if (shift.moved) {
+    impl_->anchor_history.forgetTiles(shift.left, field_.window());
     // Entering cells take the classes the global map remembers for them: a tile at a time (a
     // batch's window enters whole, every pass).
     std::vector<CellClass>& remembered = impl_->entering_classes;
@@ -289,8 +263,7 @@ bool Mapper::tickDue(double stamp) const {
 
 void Mapper::tickPersistenceIfDue(double stamp) {
   if (tickDue(stamp)) {
-    field_.tickPersistence(impl_->remembered_min_bins, impl_->confirmed_min_ticks,
-                           impl_->runner.get());
+    impl_->anchor_history.tick(field_, impl_->remover.anchors(), impl_->runner.get());
     impl_->last_tick_stamp = stamp;
   } else if (impl_->stats.scans_processed == 0 || stamp < impl_->last_tick_stamp) {
     impl_->last_tick_stamp = stamp;  // first scan, or time went back
@@ -305,8 +278,8 @@ MotionRemovalSummary Mapper::removeMotion() {
   std::vector<CellClass>& box_classes = impl_->box_classes;
   if (options_.motion_removal.motion_removal_enabled) {
     static_cast<MotionRemovalCounts&>(summary) = impl_->remover.classify(
-        field_, box, [this](const CellIndex& cell) { return map_.get(cell); }, box_classes,
-        impl_->runner.get());
+        field_, impl_->anchor_history, box,
+        [this](const CellIndex& cell) { return map_.get(cell); }, box_classes, impl_->runner.get());
     impl_->stats.free_cells = summary.free_cells;
   } else {
     // Plain eq. 5 projection: occupied, free or unknown.
@@ -714,12 +687,14 @@ void Mapper::restartEvidence() {
   impl_->frozen.freeze(field_, impl_->classes);
   // Classes live on in the global map; the next scan re-places the window and restores them.
   field_.clear();
+  impl_->anchor_history.clear();
   impl_->buffer.clear();
 }
 
 void Mapper::reset() {
   impl_->frozen.clear();
   field_.clear();
+  impl_->anchor_history.clear();
   map_.clear();
   std::fill(impl_->classes.begin(), impl_->classes.end(), CellClass::kUnknown);
   impl_->blocking_cells = 0;
@@ -745,6 +720,7 @@ bool Mapper::load(std::istream& in) {
   if (!map.read(in)) return false;
   if (!field_.read(in)) return false;  // leaves the field untouched on failure
   map_ = std::move(map);
+  impl_->anchor_history.clear();
   // The window is placed afresh by the next scan; its classes then come from the loaded map.
   std::fill(impl_->classes.begin(), impl_->classes.end(), CellClass::kUnknown);
   impl_->blocking_cells = 0;
@@ -758,7 +734,8 @@ bool Mapper::load(std::istream& in) {
 MapperStats Mapper::stats() const {
   MapperStats stats = impl_->stats;
   // The active region: the field and the mapper's per-cell classes.
-  stats.field_bytes = field_.activeBytes() + impl_->classes.size() * sizeof(CellClass);
+  stats.field_bytes = field_.activeBytes() + impl_->anchor_history.bytes() +
+                      impl_->classes.size() * sizeof(CellClass);
   stats.archived_bytes = field_.archivedBytes();
   return stats;
 }

@@ -272,8 +272,9 @@ void BM_MotionClassify(benchmark::State& state) {
     MotionRemover fresh(rule);
     state.ResumeTiming();
     MotionRemover& remover = state.range(0) != 0 ? reusing : fresh;
-    benchmark::DoNotOptimize(
-        remover.classify(mapper.field(), mapper.field().activeBox(), outside, classes, &runner));
+    benchmark::DoNotOptimize(remover.classify(mapper.field(), mapper.anchorHistory(),
+                                              mapper.field().activeBox(), outside, classes,
+                                              &runner));
   }
 }
 BENCHMARK(BM_MotionClassify)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);

@@ -187,15 +187,17 @@ void expectAddScansMatchesAddScan(bool reflection_removal, bool restart = false,
   }
   const ReflectanceField& a = one_by_one.field();
   const ReflectanceField& b = grouped.field();
+  const AnchorHistory& a_history = one_by_one.anchorHistory();
+  const AnchorHistory& b_history = grouped.anchorHistory();
   ASSERT_EQ(a.activeBox().min, b.activeBox().min);
   EXPECT_TRUE(a.wouldRecenter({1.0, 0.0}));  // the window moved on from the start
   size_t reflective = 0, confirmed = 0;
   a.window().forEachCell(a.activeBox(), [&](int, int, int slot) {
     ASSERT_EQ(a.reflectiveBinsAt(slot), b.reflectiveBinsAt(slot));
     ASSERT_EQ(a.missedBinsAt(slot), b.missedBinsAt(slot));
-    ASSERT_EQ(a.confirmedTicksAt(slot), b.confirmedTicksAt(slot));
+    ASSERT_EQ(a_history.confirmedTicksAt(slot), b_history.confirmedTicksAt(slot));
     reflective += a.reflectiveBinsAt(slot);
-    confirmed += a.confirmedTicksAt(slot) > 0;
+    confirmed += a_history.confirmedTicksAt(slot) > 0;
   });
   for (int y = a.activeBox().min.y(); y < a.activeBox().max.y(); ++y) {
     for (int x = a.activeBox().min.x(); x < a.activeBox().max.x(); ++x) {

@@ -100,6 +100,7 @@ class Mapper {
   // Hands the map over (the mapper's map is empty afterwards).
   GlobalMap2D releaseMap() { return std::exchange(map_, GlobalMap2D()); }
   const ReflectanceField& field() const { return field_; }
+  const AnchorHistory& anchorHistory() const;
   // Class of a cell: from the active region when inside it, else from the global map.
   CellClass cellClass(const CellIndex& cell) const;
 

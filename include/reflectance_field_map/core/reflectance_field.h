@@ -8,11 +8,11 @@
 #include "reflectance_field_map/core/tile_archive.h"
 #include "reflectance_field_map/core/zeroed_huge_array.h"
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <iosfwd>
-#include <limits>
-#include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace rfm {
@@ -240,7 +240,6 @@ class ReflectanceField {
     return &reflective_masks_[static_cast<size_t>(storage_index) * mask_words_];
   }
   int missedBinsAt(int storage_index) const { return missed_bins_[storage_index]; }
-  int confirmedTicksAt(int storage_index) const { return confirmed_ticks_[storage_index]; }
   double marginalOddsAt(int storage_index) const;
   // The part of marginalOddsAt's sum (without the bin width) from the reflective bins alone.
   double reflectiveOddsAt(int storage_index) const;
@@ -252,34 +251,21 @@ class ReflectanceField {
   bool isReflective(const CellIndex& cell, int bin) const {
     return maskBit(reflectiveMask(cell), bin);
   }
-  // Persistence tick: a cell's count (confirmedTicksAt) grows while it stays reflective and is hit
-  // again between ticks, saturating at 255, and resets when it stops being reflective.
-  // Long-confirmed evidence is structure even when seen from a single place; evidence that is
-  // merely never contradicted does not count.
-  // Cells with at least `remembered_min_bins` reflective bins (those that could be widely
-  // visible) get a history: their reflective bins are added to it (see contradictedBinsAt), and
-  // from then on every tick updates their vacancy (see vacantTicksAt). Histories are dropped
-  // with archived tiles.
-  // Cells confirmed for at least `confirmed_min_ticks` ticks (0: none) get a second history: the
-  // bins in which they were certain (log-odds at the clamp), see abandonedTicksAt.
-  // With a runner, on its threads.
-  void tickPersistence(int remembered_min_bins = std::numeric_limits<int>::max(),
-                       int confirmed_min_ticks = 0, ParallelRunner* runner = nullptr);
-  // Bins of the cell that were reflective at a persistence tick and are now missed with at least
-  // half the clamp's confidence: something that was seen there is gone (a person who stood
-  // still, then left). 0 for cells without history. Static structure, opaque, is not seen through
-  // from a direction it reflected in.
-  int contradictedBinsAt(int storage_index) const;
-  // Consecutive ticks, up to the last, over which the cell got new missed bins and no hit: it is
-  // seen through from new directions and nothing there reflects any more (a person who stood
-  // still seen from elsewhere after leaving). A hit resets it: structure in view is hit, even
-  // where grazing rays pass through its cell. 0 for cells without history.
-  int vacantTicksAt(int storage_index) const;
-  // Consecutive ticks, up to the last, over which a confirmed cell was missed in a bin it had
-  // been certain in and hit nowhere: the robot looks through it from where it saw it solid (a
-  // person who stood still for long, then left). Glass transmits only away from the directions it
-  // returns in, and structure in view is hit. 0 for cells without that history.
-  int abandonedTicksAt(int storage_index) const;
+  int8_t valueAt(int storage_index, int bin) const {
+    return bins_[static_cast<size_t>(bin) * plane_ + storage_index];
+  }
+
+  // What changed since the last persistence tick, for the anchor history (AnchorHistory::tick
+  // reads and clears it): the cells hit, and the storage tiles where a cell was hit or a mask
+  // changed. A tick changes nothing in the other tiles.
+  bool hitSinceTick(int storage_index) const { return hit_since_tick_[storage_index] != 0; }
+  void clearHitsSinceTick(int first_slot, int count) {
+    std::fill_n(&hit_since_tick_[first_slot], count, uint8_t{0});
+  }
+  // Whether the storage tile changed since the last tick; from now on it has not.
+  bool takeTickPending(int storage_tile) {
+    return std::exchange(tick_pending_[storage_tile], uint8_t{0}) != 0;
+  }
 
   // Per storage tile (window().tileSlotShift()): how many cells have a reflective bin, and a
   // version that changes whenever a cell summary of the tile (mask, reflective or missed count)
@@ -293,9 +279,7 @@ class ReflectanceField {
   double marginalOdds(const CellIndex& cell) const;
 
   // Memory.
-  size_t activeBytes() const;  // includes historyBytes()
-  // The departure and abandonment histories (estimated, hash map overhead included).
-  size_t historyBytes() const;
+  size_t activeBytes() const;
   size_t archivedBytes() const { return archive_.bytes(); }
   size_t archivedTiles() const { return archive_.tileCount(); }
   const TileArchive& archive() const { return archive_; }
@@ -349,7 +333,6 @@ class ReflectanceField {
   std::vector<uint16_t> missed_bins_;           // [y][x]
   std::vector<uint8_t> hit_since_tick_;         // [y][x]
   std::vector<uint16_t> reflective_bins_;       // [y][x]
-  std::vector<uint8_t> confirmed_ticks_;        // [y][x]
   std::vector<int> tile_reflective_cells_;      // per storage tile
   std::vector<uint32_t> tile_versions_;         // per storage tile
   // Per storage tile: a cell was hit, or a mask changed, since the last persistence tick. A tick
@@ -366,23 +349,6 @@ class ReflectanceField {
     uint64_t value;
   };
   Identity identity_;
-  // Sparse (only cells that could be widely visible): bins reflective at some tick.
-  struct CellHistory {
-    std::vector<uint64_t> bins;   // reflective at a tick (mask words)
-    uint16_t missed_at_tick = 0;  // missed bins at the last tick
-    uint8_t vacant_ticks = 0;
-  };
-  std::unordered_map<int, CellHistory> reflective_history_;  // by storage index
-  struct ConfirmedHistory {
-    std::vector<uint64_t> certain;  // bins at the clamp at a tick while confirmed (mask words)
-    std::vector<int8_t> at_tick;    // by bin: a certain bin's log-odds at the last tick
-    uint8_t abandoned_ticks = 0;
-  };
-  std::unordered_map<int, ConfirmedHistory> confirmed_history_;  // by storage index
-  // Adds the cell's reflective bins to its history (tickPersistence).
-  void addReflectiveBins(size_t storage_index, CellHistory& history) const;
-  // Adds the bins the cell is certain in to its confirmed history (see abandonedTicksAt).
-  void addCertainBins(size_t storage_index, ConfirmedHistory& history) const;
   TileArchive archive_;
 };
 
