@@ -1,6 +1,9 @@
+#include "reflectance_field_map/core/reflection_removal.h"
+
 #include "reflectance_field_map/core/batch_processor.h"
-#include "reflectance_field_map/core/ray_classification.h"
-#include "reflectance_field_map/core/shared_leap.h"
+#include "reflectance_field_map/core/detail/pass_through_detector.h"
+#include "reflectance_field_map/core/detail/shared_leap.h"
+#include "reflectance_field_map/core/ray_traversal.h"
 
 #include "scenario.h"
 
@@ -14,12 +17,29 @@
 namespace rfm {
 namespace {
 
+using detail::PassThroughDetector;
+using detail::SharedLeap;
 using testing::driveBy;
 using testing::fractionAlong;
 using testing::Material;
 using testing::runScenario;
 using testing::ScenarioStep;
 using testing::SyntheticWorld;
+
+// The reference for the reflection check: one cell after another over the global cells, no
+// leaps. class_of(cell) -> CellClass, reflective_near(cell, bin) -> bool.
+template <typename ClassOf, typename ReflectiveNear>
+double firstPassThroughDistance(const Ray& ray, const GridGeometry& geometry,
+                                double penetration_tolerance, ClassOf&& class_of,
+                                ReflectiveNear&& reflective_near) {
+  PassThroughDetector detector(ray, geometry, penetration_tolerance);
+  forEachCellOnRayWhile(
+      ray.origin, ray.end, geometry.inverseResolution(), [&](const CellIndex& cell) {
+        return detector.visit(
+            cell, class_of(cell), [&](int bin) { return reflective_near(cell, bin); }, class_of);
+      });
+  return detector.distance();
+}
 
 struct LabelCounts {
   size_t kept = 0, motion = 0, reflection = 0, no_return = 0;

@@ -49,6 +49,11 @@ inline void clipRayToLength(double max_length, Ray& ray) {
   }
 }
 
+// Limits rays to `radius` around their origin (evidence only within the active-region radius of
+// the sensor, live and in batch alike) and to `box` (the walks after need rays inside it);
+// rays with nothing inside are dropped, and a ray cut short loses its hit.
+void clipRaysToRegion(const CellBox& box, double resolution, double radius, std::vector<Ray>& rays);
+
 // The per-scan update rule shared by the RFM and the plain grid (Alg. 1): every ray adds misses
 // to the cells it passes and a hit to its end cell; within one scan each storage slot of a
 // group is updated at most once and a hit wins over a miss (hits are applied first and stamp
