@@ -1,5 +1,5 @@
 // Insertion, motion removal and whole-update benchmarks on the default active region
-// (10 m, 5 cm, 2 deg) with 1081-beam UTM-30LX scans. Results: test/benchmark/RESULTS.md.
+// (10 m, 5 cm, 2 deg) with 1081-beam UTM-30LX scans. Results: doc/benchmarks.md.
 
 #include "reflectance_field_map/core/mapper.h"
 #include "reflectance_field_map/core/motion_removal.h"

@@ -1,8 +1,8 @@
 #pragma once
 
-#include "reflectance_field_map/core/mapper.h"
 #include "reflectance_field_map/LoadMap.h"
 #include "reflectance_field_map/SaveMap.h"
+#include "reflectance_field_map/core/mapper.h"
 #include "reflectance_field_map/ros/parameters.h"
 
 #include <diagnostic_updater/diagnostic_updater.h>
