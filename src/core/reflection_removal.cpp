@@ -3,6 +3,7 @@
 #include "reflectance_field_map/core/detail/pass_through_detector.h"
 #include "reflectance_field_map/core/detail/shared_leap.h"
 #include "reflectance_field_map/core/ray_insertion.h"
+#include "reflectance_field_map/core/ray_traversal.h"
 
 #include <algorithm>
 #include <optional>

@@ -1,6 +1,7 @@
 #include "reflectance_field_map/core/reflectance_field.h"
 
 #include "reflectance_field_map/core/anchor_history.h"
+#include "reflectance_field_map/core/detail/slice_writer.h"
 
 #include "test_fields.h"
 

@@ -17,6 +17,10 @@
 
 namespace rfm {
 
+namespace detail {
+class SliceWriter;
+}  // namespace detail
+
 // Bit `bin` of a cell's reflective mask (ReflectanceField::reflectiveMaskAt): 64 bins a word.
 inline bool maskBit(const uint64_t* mask, int bin) {
   return (mask[bin >> 6] >> (bin & 63)) & 1u;
@@ -109,93 +113,9 @@ class ReflectanceField {
     std::vector<uint8_t> touched;  // by storage tile: `missed` holds a change there
   };
 
-  // Writes one theta slice with everything it needs held locally: int8 stores may alias any
-  // member, so going through `this` would reload them after every update.
-  // Writers of different slices may run concurrently when each defers its summary changes to
-  // its own lists, applied afterwards by applySummaryChanges.
-  class SliceWriter {
-   public:
-    __attribute__((always_inline)) void hit(int slot) {
-      int8_t& v = bins_[slot];
-      const int old = v;
-      const int updated = old + hit_step_ > max_ ? max_ : old + hit_step_;
-      v = static_cast<int8_t>(updated);
-      // Every writer stores the same 1: relaxed atomic, so concurrent writers are well defined.
-      if (!__atomic_load_n(&hit_flags_[slot], __ATOMIC_RELAXED)) {
-        __atomic_store_n(&hit_flags_[slot], uint8_t{1}, __ATOMIC_RELAXED);
-        __atomic_store_n(&tick_pending_[slot >> tile_slot_shift_], uint8_t{1}, __ATOMIC_RELAXED);
-      }
-      // Only a bin in [-hit_step, 0] reaches or crosses the prior (p = 0.5) on a hit: one test.
-      if (static_cast<unsigned>(old + hit_step_) <= static_cast<unsigned>(hit_step_)) {
-        change(slot, old <= 0 && updated > 0, old < 0 && updated >= 0 ? -1 : 0);
-      }
-    }
-    __attribute__((always_inline)) void miss(int slot) {
-      int8_t& v = bins_[slot];
-      const int old = v;
-      const int updated = old + miss_step_ < min_ ? min_ : old + miss_step_;
-      v = static_cast<int8_t>(updated);
-      // Only a bin in [0, -miss_step] reaches or crosses the prior on a miss: one test.
-      if (static_cast<unsigned>(old) <= static_cast<unsigned>(-miss_step_)) {
-        change(slot, old > 0 && updated <= 0 ? -1 : 0, old >= 0 && updated < 0);
-      }
-    }
-
-   private:
-    friend class ReflectanceField;
-    // Called only for a change: every value in the ranges tested above crosses or reaches 0.
-    // Inlined: left to itself the compiler called it through the PLT, 5 % of a pass's instructions.
-    __attribute__((always_inline)) void change(int slot, int reflective, int missed) {
-      if (deferred_) {
-        if (missed != 0) {
-          missed_sums_[slot] += static_cast<uint16_t>(missed);
-          touched_tiles_[slot >> tile_slot_shift_] = 1;
-        }
-        if (reflective != 0) {
-          deferred_[(slot >> tile_slot_shift_) & part_mask_].push_back(
-              {slot, static_cast<int16_t>(bin_), static_cast<int8_t>(reflective)});
-        }
-      } else {
-        field_->applySummaryChange(slot, bin_, reflective, missed);
-      }
-    }
-    int8_t* bins_;
-    uint8_t* hit_flags_;
-    uint8_t* tick_pending_;
-    ReflectanceField* field_;
-    std::vector<SummaryChange>* deferred_;  // DeferredSummaries::lists, or null
-    uint16_t* missed_sums_;                 // DeferredSummaries::missed, when deferred_ is set
-    uint8_t* touched_tiles_;                // DeferredSummaries::touched, when deferred_ is set
-    int tile_slot_shift_, part_mask_;
-    int bin_, hit_step_, miss_step_, min_, max_;
-  };
-  // With `deferred` set, summary changes are appended there instead of applied.
-  SliceWriter sliceWriter(int bin, DeferredSummaries* deferred = nullptr) {
-    SliceWriter w;
-    w.bins_ = &bins_[static_cast<size_t>(bin) * plane_];
-    w.hit_flags_ = hit_since_tick_.data();
-    w.tick_pending_ = tick_pending_.data();
-    w.field_ = this;
-    w.deferred_ = deferred ? deferred->lists.data() : nullptr;
-    w.missed_sums_ = nullptr;
-    w.touched_tiles_ = nullptr;
-    if (deferred) {
-      if (deferred->missed.size() != plane_) {
-        deferred->missed.assign(plane_, 0);
-        deferred->touched.assign(window_.storageTiles(), 0);
-      }
-      w.missed_sums_ = deferred->missed.data();
-      w.touched_tiles_ = deferred->touched.data();
-    }
-    w.tile_slot_shift_ = window_.tileSlotShift();
-    w.part_mask_ = deferred ? deferred->parts - 1 : 0;
-    w.bin_ = bin;
-    w.hit_step_ = log_odds_.hitStep();
-    w.miss_step_ = log_odds_.missStep();
-    w.min_ = log_odds_.minValue();
-    w.max_ = log_odds_.maxValue();
-    return w;
-  }
+  // Writes one theta slice (detail/slice_writer.h, where it is defined). With `deferred` set,
+  // summary changes are appended there instead of applied.
+  detail::SliceWriter sliceWriter(int bin, DeferredSummaries* deferred = nullptr);
   // Applies the writers' deferred changes, the lists of each part (and the sums of its tiles) on
   // one of the runner's threads when there are enough to share (all writers with the same number
   // of parts), and empties the writers' sums. Each bin must have had one writer, so that its
@@ -292,6 +212,7 @@ class ReflectanceField {
   bool read(std::istream& in);
 
  private:
+  friend class detail::SliceWriter;
   void applySummaryChange(int storage_index, int bin, int reflective, int missed) {
     if ((reflective | missed) == 0) return;
     const int tile = storage_index >> window_.tileSlotShift();
