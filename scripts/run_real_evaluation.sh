@@ -159,6 +159,22 @@ EOF
   done
   cat << EOF
 
+EOF
+  # What the table says, counted from it.
+  logs=0 no_static=0 dropped=0 dropped_motion=0
+  for name in "${names[@]}"; do
+    [[ "$name" == "$STATIONARY" ]] && continue
+    logs=$((logs + 1))
+    [[ "$(value "$name" rfm_static)" == 0 ]] && no_static=$((no_static + 1))
+    dropped=$((dropped + $(value "$name" dropped)))
+    dropped_motion=$((dropped_motion + $(value "$name" dropped_motion)))
+  done
+  cat << EOF
+
+Over the $logs logs the RFM drops $dropped of the plain grid's wall cells, $dropped_motion of them
+as motion. On $no_static of the $logs logs it draws no cell static: every obstacle it keeps there
+is glass or metal.
+
 *clock*: the converter's clock, \`ipc_timestamp\` (the log's stamps, repaired where they step
 back) or \`synthetic\` (stamps all equal: one scan every so often in file order, from the path;
 \`convert.txt\` of each run says what was done).
@@ -176,7 +192,7 @@ EOF
   for name in $(printf '%s\n' "${names[@]}" | sort); do
     k="$(value "$name" picture_cells_per_pixel)"
     printf '### %s\n\n![%s: RFM | plain grid](%s/%s.png)\n\n' "$name" "$name" "$pictures_rel" "$name"
-    printf '%s cell(s) a pixel side (%s cm). Walls kept %s %%; glass %s cells, metal %s.\n\n' \
+    printf 'A pixel: %s x %s cells (%s cm). Walls kept %s %%; glass %s cells, metal %s.\n\n' "$k" \
       "$k" "$((k * 5))" "$(value "$name" walls_kept_percent)" "$(value "$name" rfm_glass)" \
       "$(value "$name" rfm_metal)"
   done
@@ -187,8 +203,8 @@ EOF
     cat << EOF
 ## The stationary recording: glass drawn and people left
 
-\`$s.bag\`: a lidar that does not move (512 beams over 180 deg, 5.6 m, 10 Hz,
-1265 scans) in a room without glass, people walking past it; mapped with \`--fixed-frame laser
+\`$s.bag\`: a lidar that does not move (512 beams over 180 deg,
+5.6 m, 10 Hz, 1265 scans) in a room without glass, people walking past it; mapped with \`--fixed-frame laser
 --scan-topics /scan\` (the bag has no TF).
 
 **Glass drawn.** The room has no glass and no metal, so every cell the RFM draws glass or metal
@@ -233,7 +249,9 @@ The measure with other margins (cells beyond the cell a return must come from):
 ![people left: RFM | plain grid](${pictures_rel}/${s}_people_left.png)
 
 Occupied cells of each map (RFM left, plain grid right, 3 pixels a cell): black, or **red**
-where people were left (seen through by most scans). The scattered cells at the bottom right
+where people were left (seen through by most scans). The RFM's few red cells lie on the edges
+of walls; the plain grid's include people left in the middle of the room. The scattered cells
+at the bottom right
 of the plain grid lie near the range limit with nothing in range behind them: only a few of them
 can be judged (those in red).
 
