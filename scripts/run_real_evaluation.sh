@@ -158,7 +158,6 @@ EOF
       "$(value "$name" rfm_glass)" "$(value "$name" rfm_metal)"
   done
   cat << EOF
-
 EOF
   # What the table says, counted from it.
   logs=0 no_static=0 dropped=0 dropped_motion=0
@@ -250,10 +249,9 @@ The measure with other margins (cells beyond the cell a return must come from):
 
 Occupied cells of each map (RFM left, plain grid right, 3 pixels a cell): black, or **red**
 where people were left (seen through by most scans). The RFM's few red cells lie on the edges
-of walls; the plain grid's include people left in the middle of the room. The scattered cells
-at the bottom right
-of the plain grid lie near the range limit with nothing in range behind them: only a few of them
-can be judged (those in red).
+of walls; the plain grid's include people left in the middle of the room. The plain grid's
+scattered cells at the bottom right lie near the range limit with nothing in range behind them:
+only a few of them can be judged (those in red).
 
 EOF
   fi
