@@ -2,9 +2,9 @@
 // rfm_offline): walls kept, what the RFM made of the walls it dropped, its classes, a picture.
 
 #include "reflectance_field_map/render/png_io.h"
-#include "reflectance_field_map/tools/comparison_picture.h"
 #include "reflectance_field_map/tools/grid_map_file.h"
 #include "reflectance_field_map/tools/map_comparison.h"
+#include "reflectance_field_map/tools/measure_pictures.h"
 
 #include <cstdio>
 #include <cstdlib>

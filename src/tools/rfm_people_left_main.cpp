@@ -3,8 +3,8 @@
 
 #include "reflectance_field_map/offline/bag_input.h"
 #include "reflectance_field_map/render/png_io.h"
-#include "reflectance_field_map/tools/comparison_picture.h"
 #include "reflectance_field_map/tools/grid_map_file.h"
+#include "reflectance_field_map/tools/measure_pictures.h"
 #include "reflectance_field_map/tools/transient_evidence.h"
 
 #include <ros/time.h>

@@ -2,9 +2,9 @@
 // classes.pgm, aligning them, walls kept, the picture and people left.
 
 #include "reflectance_field_map/render/png_io.h"
-#include "reflectance_field_map/tools/comparison_picture.h"
 #include "reflectance_field_map/tools/grid_map_file.h"
 #include "reflectance_field_map/tools/map_comparison.h"
+#include "reflectance_field_map/tools/measure_pictures.h"
 #include "reflectance_field_map/tools/transient_evidence.h"
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-#include "reflectance_field_map/tools/comparison_picture.h"
+#include "reflectance_field_map/tools/measure_pictures.h"
 
 #include "reflectance_field_map/core/cell_class.h"
 #include "reflectance_field_map/render/map_image.h"
