@@ -172,7 +172,7 @@ class Parser {
                            "mullion_spacing", "dirt", "tilt_deg"});
         if (!wall["center"]) fail(join(wall_field, "center"), "missing (required)");
         const Eigen::Vector2d center = point(wall["center"], join(wall_field, "center"));
-        const double radius = requiredNumber(wall, wall_field, "radius", 0.05, 1000.0);
+        const double radius = requiredNumber(wall, wall_field, "radius", 0.01, 1000.0);
         const double start = requiredNumber(wall, wall_field, "start_deg", -720.0, 720.0);
         const double end = requiredNumber(wall, wall_field, "end_deg", -720.0, 720.0);
         if (end <= start || end - start > 360.0) {

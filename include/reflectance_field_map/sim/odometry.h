@@ -11,16 +11,16 @@ namespace rfm::sim {
 
 // Error model of the odometry, applied to every step of true motion (body frame). Random walks
 // grow with the square root of the distance driven or the angle turned; systematic errors with
-// the distance or angle themselves. The defaults are a wheelchair's wheel odometry (pneumatic
-// tyres, casters, no gyro): a few centimetres and one or two degrees after ten metres and a turn.
+// the distance or angle themselves. The defaults are a calibrated wheelchair's wheel odometry:
+// about 1 % of the distance, and a degree or two of heading after 25 m and half a dozen turns.
 struct OdometryDrift {
   bool enabled = false;              // off: odometry equals the true path
-  double xy_noise = 0.01;            // m per sqrt(m) driven, along and across the heading
-  double yaw_noise_deg = 0.25;       // deg per sqrt(m) driven
-  double turn_noise_deg = 0.15;      // deg per sqrt(deg) turned
+  double xy_noise = 0.005;           // m per sqrt(m) driven, along and across the heading
+  double yaw_noise_deg = 0.1;        // deg per sqrt(m) driven
+  double turn_noise_deg = 0.05;      // deg per sqrt(deg) turned
   double scale_error = 0.01;         // distances read this much too long (negative: too short)
-  double turn_scale_error = 0.02;    // turns read this much too large
-  double yaw_bias_deg_per_m = 0.05;  // heading creeps this much per metre (unequal wheels)
+  double turn_scale_error = 0.005;   // turns read this much too large
+  double yaw_bias_deg_per_m = 0.02;  // heading creeps this much per metre (unequal wheels)
 
   // Throws std::invalid_argument naming the offending parameter.
   void validate() const;
