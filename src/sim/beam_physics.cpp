@@ -61,6 +61,7 @@ void RealisticPhysics::validate() const {
   requireRange(metal_tail_decay_deg, 0.1, 90.0, "metal_tail_decay_deg");
   requireRange(diffuse_max_incidence_deg, 0.0, 90.0, "diffuse_max_incidence_deg");
   requireRange(grazing_dropout, 0.0, 1.0, "grazing_dropout");
+  requireRange(range_dropout, 0.0, 1.0, "range_dropout");
   requireRange(gloss_probability, 0.0, 1.0, "gloss_probability");
   requireRange(max_interactions, 0, 32, "max_interactions");
 }
@@ -195,7 +196,12 @@ BeamResult BeamTracer::traceRealistic(const Eigen::Vector2d& origin,
       const BeamClass direct = hit->is_person ? BeamClass::kMotion : BeamClass::kDiffuse;
       if (incidence <= diffuse_max) {
         const double share = incidence / std::max(diffuse_max, 1e-9);
-        if (uniform(rng) < p.grazing_dropout * share * share * share * share) return lost();
+        const double reach = (travelled + hit->distance) / range_max;
+        const double grazing = share * share * share;
+        if (uniform(rng) <
+            p.grazing_dropout * grazing * grazing + p.range_dropout * reach * reach) {
+          return lost();
+        }
         return finish(direct, hit->distance);
       }
       if (hit->is_person || uniform(rng) >= p.gloss_probability) return lost();

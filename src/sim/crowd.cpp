@@ -10,9 +10,9 @@ namespace {
 
 using Vec = Eigen::Vector2d;
 
-constexpr double kSampleStep = 0.05;      // s between the checks of who is where
-constexpr double kPersonGap = 0.05;       // m kept between two footprints
-constexpr double kSideBySide = 0.78;      // m between the centres of people walking abreast
+constexpr double kSampleStep = 0.05;  // s between the checks of who is where
+constexpr double kPersonGap = 0.05;   // m kept between two footprints
+constexpr double kSideBySide = 0.78;  // m between the centres of people walking abreast
 constexpr int kAttemptsPerPerson = 25;
 
 class CrowdBuilder {
@@ -32,14 +32,15 @@ class CrowdBuilder {
     for (const FloorPlanArea& area : indoor_areas_) {
       floor_area += (area.high - area.low).prod();
     }
-    const int indoor = std::clamp(static_cast<int>(floor_area / 30.0 * dice_.uniform(0.5, 1.3)), 2, 16);
+    const int indoor =
+        std::clamp(static_cast<int>(floor_area / 30.0 * dice_.uniform(0.5, 1.3)), 2, 16);
     for (int k = 0; k < indoor; ++k) {
       const double roll = dice_.uniform(0.0, 1.0);
-      if (roll < 0.45) {
+      if (roll < 0.5) {
         addWithRetries([&] { return walker("walker"); });
       } else if (roll < 0.65) {
         addWithRetries([&] { return stander(); });
-      } else if (roll < 0.85) {
+      } else if (roll < 0.87) {
         addWithRetries([&] { return walkingGroup(); });
       } else {
         addWithRetries([&] { return conversation(); });
@@ -47,7 +48,8 @@ class CrowdBuilder {
     }
     if (!street_areas_.empty()) {
       const int passers = dice_.integer(1, 4);
-      for (int k = 0; k < passers; ++k) addWithRetries([&] { return walker("street", true); });
+      for (int k = 0; k < passers; ++k)
+        addWithRetries([&] { return walker("street", true); });
     }
     return accepted_;
   }
@@ -91,13 +93,15 @@ class CrowdBuilder {
   std::optional<std::vector<Vec>> route(const Vec& from, const Vec& to, double clearance) {
     auto path = setting_.grid.path(from, to, clearance);
     if (!path) return std::nullopt;
-    for (Vec& p : *path) p = Vec(rounded(p.x(), 100), rounded(p.y(), 100));
+    for (Vec& p : *path)
+      p = Vec(rounded(p.x(), 100), rounded(p.y(), 100));
     return path;
   }
 
   // Appends a route's points to `waypoints` (its first point is already the last waypoint).
   static void extend(std::vector<PersonWaypoint>& waypoints, const std::vector<Vec>& points) {
-    for (std::size_t i = 1; i < points.size(); ++i) waypoints.push_back({points[i], 0.0});
+    for (std::size_t i = 1; i < points.size(); ++i)
+      waypoints.push_back({points[i], 0.0});
   }
 
   double startTime(double latest_share = 0.85) {
@@ -168,9 +172,11 @@ class CrowdBuilder {
     const int size = dice_.integer(2, 3);
     const double speed = dice_.uniform(0.8, 1.3);
     std::vector<PersonSpec> group;
-    for (int k = 0; k < size; ++k) group.push_back(body("group", speed));
+    for (int k = 0; k < size; ++k)
+      group.push_back(body("group", speed));
     double radius = 0.0;
-    for (const PersonSpec& person : group) radius = std::max(radius, person.radius);
+    for (const PersonSpec& person : group)
+      radius = std::max(radius, person.radius);
     const double half_width = 0.5 * (size - 1) * kSideBySide;
     const double clearance = radius + half_width + 0.1;
     const auto start = spot(area(false), clearance);
@@ -185,8 +191,8 @@ class CrowdBuilder {
       const double offset = -half_width + k * kSideBySide;
       for (std::size_t i = 0; i < path->size(); ++i) {
         const Vec p = offsetPoint(*path, i, offset);
-        group[k].waypoints.push_back({Vec(rounded(p.x(), 100), rounded(p.y(), 100)),
-                                      i == pause_at ? pause : 0.0});
+        group[k].waypoints.push_back(
+            {Vec(rounded(p.x(), 100), rounded(p.y(), 100)), i == pause_at ? pause : 0.0});
       }
       group[k].start_time = start_time;
     }
@@ -211,13 +217,15 @@ class CrowdBuilder {
   std::vector<PersonSpec> conversation() {
     const int size = dice_.integer(2, 4);
     std::vector<PersonSpec> group;
-    for (int k = 0; k < size; ++k) group.push_back(body("talker", dice_.uniform(0.8, 1.3)));
+    for (int k = 0; k < size; ++k)
+      group.push_back(body("talker", dice_.uniform(0.8, 1.3)));
     double radius = 0.0;
-    for (const PersonSpec& person : group) radius = std::max(radius, person.radius);
+    for (const PersonSpec& person : group)
+      radius = std::max(radius, person.radius);
     const double ring = (radius + 0.5 * kPersonGap + 0.02) / std::sin(M_PI / size);
     const auto centre = spot(area(false), ring + radius + 0.3);
     if (!centre) return {};
-    const double talk = rounded(dice_.uniform(8.0, 40.0), 10);
+    const double talk = rounded(dice_.uniform(5.0, 25.0), 10);
     const double start_time = startTime(0.6);
     const double turn = dice_.uniform(0.0, 2.0 * M_PI);
     for (int k = 0; k < size; ++k) {
@@ -246,7 +254,8 @@ class CrowdBuilder {
       std::vector<PersonSpec> candidates = make();
       if (candidates.empty()) continue;
       if (acceptable(candidates)) {
-        for (PersonSpec& person : candidates) accepted_.push_back(std::move(person));
+        for (PersonSpec& person : candidates)
+          accepted_.push_back(std::move(person));
         return;
       }
     }
@@ -278,7 +287,8 @@ class CrowdBuilder {
           if (!apart(other)) return false;
       }
     }
-    for (const Pedestrian& walker : walkers) placed_.push_back(walker);
+    for (const Pedestrian& walker : walkers)
+      placed_.push_back(walker);
     return true;
   }
 

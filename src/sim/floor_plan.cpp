@@ -94,11 +94,13 @@ class FloorPlanBuilder {
     plan_.building_high = Vec(width_, height_);
     plan_.world_low = plan_.world_low.cwiseMin(plan_.building_low);
     plan_.world_high = plan_.world_high.cwiseMax(plan_.building_high);
-    for (const Box& room : rooms_) plan_.areas.push_back({room.low, room.high, false});
+    for (const Box& room : rooms_)
+      plan_.areas.push_back({room.low, room.high, false});
     std::ostringstream summary;
     summary << (corridor ? "corridor" : "halls") << " building " << width_ << " m x " << height_
             << " m, " << rooms_.size() << " rooms";
-    for (const std::string& feature : features_) summary << ", " << feature;
+    for (const std::string& feature : features_)
+      summary << ", " << feature;
     plan_.summary = summary.str();
     return plan_;
   }
@@ -221,7 +223,8 @@ class FloorPlanBuilder {
         const double room = end - start - 2 * kDoorMargin;
         if (room < 1.1) continue;
         const double width = rounded(std::min(room, dice_.uniform(1.2, 1.8)), 100);
-        const double at = rounded(dice_.uniform(start + kDoorMargin, end - kDoorMargin - width), 100);
+        const double at =
+            rounded(dice_.uniform(start + kDoorMargin, end - kDoorMargin - width), 100);
         line.inserts.push_back({at, at + width, Insert::Kind::kDoor});
       }
     }
@@ -253,7 +256,8 @@ class FloorPlanBuilder {
       }
       runs = next;
     }
-    for (const auto& [s, e] : runs) line.inserts.push_back(glassRun(rounded(s, 100), rounded(e, 100)));
+    for (const auto& [s, e] : runs)
+      line.inserts.push_back(glassRun(rounded(s, 100), rounded(e, 100)));
   }
 
   void chooseFacade() {
@@ -268,7 +272,8 @@ class FloorPlanBuilder {
       if (!roomy.empty()) {
         const auto [start, end] = dice_.pick(roomy);
         const double width = std::min(end - start - 2 * kDoorMargin, dice_.uniform(1.6, 3.0));
-        const double at = rounded(dice_.uniform(start + kDoorMargin, end - kDoorMargin - width), 100);
+        const double at =
+            rounded(dice_.uniform(start + kDoorMargin, end - kDoorMargin - width), 100);
         line.inserts.push_back({at, rounded(at + width, 100), Insert::Kind::kDoor});
         street_entrance_ = true;
       }
@@ -277,7 +282,8 @@ class FloorPlanBuilder {
       const double edge = dice_.uniform(0.1, 0.4);
       if (end - start > 2 * edge + 0.6) glaze(line, start + edge, end - edge);
     }
-    features_.push_back(std::string("glass facade") + (street_entrance_ ? " with an entrance" : ""));
+    features_.push_back(std::string("glass facade") +
+                        (street_entrance_ ? " with an entrance" : ""));
   }
 
   void styleInteriorBays() {
@@ -381,7 +387,8 @@ class FloorPlanBuilder {
       double cursor = 0.0;
       for (const Insert& insert : line.inserts) {
         if (insert.start > cursor + 1e-6) {
-          plan_.walls.push_back(segment(line.at(cursor), line.at(insert.start), Material::kDiffuse));
+          plan_.walls.push_back(
+              segment(line.at(cursor), line.at(insert.start), Material::kDiffuse));
         }
         cursor = std::max(cursor, insert.end);
         if (insert.kind == Insert::Kind::kDoor) continue;
@@ -424,7 +431,8 @@ class FloorPlanBuilder {
       const Box box{low, low + Vec(width, height)};
       const Box claimed = box.grown(clearance);
       bool clear = true;
-      for (const Box& other : keep_out_) clear = clear && !claimed.overlaps(other);
+      for (const Box& other : keep_out_)
+        clear = clear && !claimed.overlaps(other);
       if (!clear) continue;
       keep_out_.push_back(claimed);
       return box;
@@ -449,7 +457,8 @@ class FloorPlanBuilder {
     wall.type = WallDescription::Type::kPolyline;
     wall.material = Material::kDiffuse;
     wall.closed = true;
-    wall.points = {box.low, Vec(box.high.x(), box.low.y()), box.high, Vec(box.low.x(), box.high.y())};
+    wall.points = {box.low, Vec(box.high.x(), box.low.y()), box.high,
+                   Vec(box.low.x(), box.high.y())};
     plan_.walls.push_back(wall);
   }
 
@@ -461,9 +470,11 @@ class FloorPlanBuilder {
       if (hall && dice_.chance(0.4)) panes += addFreestandingPanes(room);
       if (hall && dice_.chance(0.2)) boxes += addGlassBox(room);
       const int pillar_count = hall ? dice_.integer(0, 4) : (dice_.chance(0.2) ? 1 : 0);
-      for (int k = 0; k < pillar_count; ++k) pillars += addPillar(room);
+      for (int k = 0; k < pillar_count; ++k)
+        pillars += addPillar(room);
       const int table_count = dice_.integer(0, room.area() > 20.0 ? 2 : 1);
-      for (int k = 0; k < table_count; ++k) tables += addTable(room);
+      for (int k = 0; k < table_count; ++k)
+        tables += addTable(room);
       if (dice_.chance(0.4)) addCabinet(room);
     }
     if (curved) features_.push_back(std::to_string(curved) + " curved glass");
@@ -480,7 +491,8 @@ class FloorPlanBuilder {
     const Vec centre = 0.5 * (box->low + box->high);
     const double opening_deg = (dice_.uniform(1.2, 2.0) / radius) * 180.0 / M_PI;
     const double start = rounded(dice_.uniform(0.0, 360.0), 10);
-    const double sweep = rounded(std::min(330.0, 360.0 - opening_deg) - dice_.uniform(0.0, 120.0), 10);
+    const double sweep =
+        rounded(std::min(330.0, 360.0 - opening_deg) - dice_.uniform(0.0, 120.0), 10);
     WallDescription wall;
     wall.type = WallDescription::Type::kArc;
     wall.material = Material::kGlass;
@@ -521,7 +533,8 @@ class FloorPlanBuilder {
 
   // A glass meeting room: four framed glass sides, a doorway in one.
   int addGlassBox(const Box& room) {
-    const double w = rounded(dice_.uniform(2.5, 4.5), 100), h = rounded(dice_.uniform(2.5, 4.0), 100);
+    const double w = rounded(dice_.uniform(2.5, 4.5), 100),
+                 h = rounded(dice_.uniform(2.5, 4.0), 100);
     const auto box = place(room, w, h, 1.3, 1.0);
     if (!box) return 0;
     const Vec corners[4] = {box->low, Vec(box->high.x(), box->low.y()), box->high,
@@ -565,7 +578,8 @@ class FloorPlanBuilder {
 
   // A table seen at a lidar's height: four thin legs.
   int addTable(const Box& room) {
-    const double w = rounded(dice_.uniform(1.2, 2.0), 100), h = rounded(dice_.uniform(0.7, 1.0), 100);
+    const double w = rounded(dice_.uniform(1.2, 2.0), 100),
+                 h = rounded(dice_.uniform(0.7, 1.0), 100);
     const bool turned = dice_.chance(0.5);
     const auto box = turned ? place(room, h, w, 0.6, 0.8) : place(room, w, h, 0.6, 0.8);
     if (!box) return 0;
@@ -636,7 +650,8 @@ class FloorPlanBuilder {
       const Vec centre_point = a + s * (b - a) + t * outward;
       const Box claimed = Box{centre_point, centre_point}.grown(radius + 1.0);
       bool clear = true;
-      for (const Box& other : keep_out_) clear = clear && !claimed.overlaps(other);
+      for (const Box& other : keep_out_)
+        clear = clear && !claimed.overlaps(other);
       if (!clear) continue;
       keep_out_.push_back(claimed);
       addCircle(Vec(rounded(centre_point.x(), 100), rounded(centre_point.y(), 100)), radius,
@@ -660,6 +675,8 @@ class FloorPlanBuilder {
 
 }  // namespace
 
-FloorPlan generateFloorPlan(Dice& dice) { return FloorPlanBuilder(dice).build(); }
+FloorPlan generateFloorPlan(Dice& dice) {
+  return FloorPlanBuilder(dice).build();
+}
 
 }  // namespace rfm::sim

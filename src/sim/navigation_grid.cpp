@@ -26,7 +26,8 @@ void distanceTransform1d(const std::vector<double>& f, std::vector<double>& d, s
   };
   for (int q = 1; q < n; ++q) {
     double s = intersection(q, v[k]);
-    while (s <= z[k]) s = intersection(q, v[--k]);  // z[0] is -kFar: stops at k = 0
+    while (s <= z[k])
+      s = intersection(q, v[--k]);  // z[0] is -kFar: stops at k = 0
     ++k;
     v[k] = q;
     z[k] = s;
@@ -34,7 +35,8 @@ void distanceTransform1d(const std::vector<double>& f, std::vector<double>& d, s
   }
   k = 0;
   for (int q = 0; q < n; ++q) {
-    while (z[k + 1] < q) ++k;
+    while (z[k + 1] < q)
+      ++k;
     d[q] = double(q - v[k]) * (q - v[k]) + f[v[k]];
   }
 }
@@ -96,8 +98,8 @@ NavigationGrid::NavigationGrid(const World& world, const Eigen::Vector2d& low,
   // Distances are between cell centres; a surface may lie anywhere in its cell, so half a cell
   // is taken off.
   for (std::size_t i = 0; i < squared.size(); ++i) {
-    clearance_[i] = std::max(0.0f, static_cast<float>(std::sqrt(squared[i]) * resolution_ -
-                                                      0.5 * resolution_));
+    clearance_[i] =
+        std::max(0.0f, static_cast<float>(std::sqrt(squared[i]) * resolution_ - 0.5 * resolution_));
   }
 }
 
@@ -185,7 +187,8 @@ std::optional<std::vector<Eigen::Vector2d>> NavigationGrid::path(
   std::size_t from = 0;
   while (from + 1 < cells.size()) {
     std::size_t to = cells.size() - 1;
-    while (to > from + 1 && !lineClear(cells[from], cells[to], clearance)) --to;
+    while (to > from + 1 && !lineClear(cells[from], cells[to], clearance))
+      --to;
     corners.push_back(cells[to]);
     from = to;
   }

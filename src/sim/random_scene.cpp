@@ -37,8 +37,9 @@ RealisticPhysics drawPhysics(Dice& dice) {
   p.metal_tail_probability = rounded(dice.uniform(0.02, 0.2), 1000);
   p.metal_tail_decay_deg = rounded(dice.uniform(3.0, 15.0), 10);
   p.diffuse_max_incidence_deg = rounded(dice.uniform(80.0, 89.0), 10);
-  p.grazing_dropout = rounded(dice.uniform(0.05, 0.5), 1000);
-  p.gloss_probability = rounded(dice.uniform(0.0, 0.3), 1000);
+  p.grazing_dropout = rounded(dice.uniform(0.02, 0.25), 1000);
+  p.range_dropout = rounded(dice.uniform(0.0, 0.3), 1000);
+  p.gloss_probability = rounded(dice.uniform(0.0, 0.15), 1000);
   p.max_interactions = 4;
   return p;
 }
@@ -62,8 +63,8 @@ std::optional<OdometryDrift> drawOdometry(Dice& dice) {
   return drift;
 }
 
-// The setup's lidars as real units vary: mounts a little off level, noise and dropouts a little
-// off the data sheet, and every scan swept beam by beam.
+// The setup's lidars as real units vary: mounts a little off level, noise a little off the data
+// sheet, and every scan swept beam by beam.
 std::vector<LidarSpec> drawLidars(Dice& dice, const SensorSetup& setup) {
   std::vector<LidarSpec> lidars = setup.lidars;
   for (LidarSpec& lidar : lidars) {
@@ -72,8 +73,9 @@ std::vector<LidarSpec> drawLidars(Dice& dice, const SensorSetup& setup) {
     lidar.mount_roll = rounded(std::clamp(dice.normal(0.0, 0.3), -1.0, 1.0), 100) * kDegToRad;
     lidar.range_noise_sigma = rounded(lidar.range_noise_sigma * dice.uniform(0.8, 1.3), 10000);
     lidar.range_noise_per_m = rounded(lidar.range_noise_per_m * dice.uniform(0.8, 1.3), 100000);
-    lidar.dropout_probability =
-        rounded(std::min(0.2, lidar.dropout_probability * dice.uniform(0.5, 2.0)), 10000);
+    // Random misses on a plain wall in range are rare; the physics loses the faint returns
+    // (grazing, far, dark) on top.
+    lidar.dropout_probability = rounded(lidar.dropout_probability * dice.uniform(0.05, 0.5), 10000);
   }
   return lidars;
 }
@@ -112,7 +114,8 @@ RobotDescription drawRobot(Dice& dice, const FloorPlan& plan, const NavigationGr
   auto insideOnly = [&](const Vec& p) { return inside(plan, p); };
 
   std::optional<Vec> start;
-  for (int attempt = 0; attempt < 50 && !start; ++attempt) start = cellIn(dice.pick(rooms));
+  for (int attempt = 0; attempt < 50 && !start; ++attempt)
+    start = cellIn(dice.pick(rooms));
   if (!start) throw std::runtime_error("random scene: no room for the robot");
   robot.waypoints.push_back(*start);
   double time = robot.start_delay;
@@ -151,14 +154,16 @@ RandomScene generateRandomScene(const RandomSceneOptions& options) {
       people(seed, kPeople), sensors(seed, kSensors), odometry(seed, kOdometry);
 
   SceneDescription scene;
-  scene.duration = options.duration ? *options.duration : rounded(robot_dice.uniform(40.0, 80.0), 1);
+  scene.duration =
+      options.duration ? *options.duration : rounded(robot_dice.uniform(40.0, 80.0), 1);
   if (!(scene.duration >= 5.0 && scene.duration <= 3600.0)) {
     throw std::invalid_argument("a random scene's duration must be in [5, 3600] s");
   }
   const FloorPlan plan = generateFloorPlan(floor);
   scene.walls = plan.walls;
   World world;
-  for (const WallDescription& wall : scene.walls) addWall(world, wall);
+  for (const WallDescription& wall : scene.walls)
+    addWall(world, wall);
   const NavigationGrid grid(world, plan.world_low - Vec::Constant(1.0),
                             plan.world_high + Vec::Constant(1.0), kGridResolution);
 
@@ -174,8 +179,8 @@ RandomScene generateRandomScene(const RandomSceneOptions& options) {
 
   scene.seed = seed;
   scene.name = "random_" + std::to_string(seed);
-  scene.description = plan.summary + "; " + std::to_string(scene.people.size()) + " people; setup " +
-                      setup.name;
+  scene.description =
+      plan.summary + "; " + std::to_string(scene.people.size()) + " people; setup " + setup.name;
   scene.comment = "Procedural scene: rfm_sim --random " + std::to_string(seed) + " --setup " +
                   setup.name + ".\nSimulate this file to reproduce it exactly: rfm_sim --scene " +
                   "THIS.yaml --out OUT.bag";

@@ -31,7 +31,9 @@ std::string quoted(const std::string& text) {
 }
 
 // Degrees of an angle the loader turned into radians, without the conversion's last-digit noise.
-double degrees(double radians) { return std::round(radians / kDegToRad * 1e9) / 1e9; }
+double degrees(double radians) {
+  return std::round(radians / kDegToRad * 1e9) / 1e9;
+}
 
 void writePhysics(std::ostream& out, const RealisticPhysics& p) {
   out << "physics:\n"
@@ -47,6 +49,7 @@ void writePhysics(std::ostream& out, const RealisticPhysics& p) {
       << "  metal_tail_decay_deg: " << formatNumber(p.metal_tail_decay_deg) << "\n"
       << "  diffuse_max_incidence_deg: " << formatNumber(p.diffuse_max_incidence_deg) << "\n"
       << "  grazing_dropout: " << formatNumber(p.grazing_dropout) << "\n"
+      << "  range_dropout: " << formatNumber(p.range_dropout) << "\n"
       << "  gloss_probability: " << formatNumber(p.gloss_probability) << "\n"
       << "  max_interactions: " << p.max_interactions << "\n";
 }

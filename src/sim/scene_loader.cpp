@@ -229,7 +229,7 @@ class Parser {
         {"return_cone_deg", "bump_tilt_deg", "bump_correlation_s", "standing_tilt_deg",
          "refractive_index", "empty_echo_probability", "empty_echo_decay_deg", "metal_lobe_deg",
          "metal_tail_probability", "metal_tail_decay_deg", "diffuse_max_incidence_deg",
-         "grazing_dropout", "gloss_probability", "max_interactions"});
+         "grazing_dropout", "range_dropout", "gloss_probability", "max_interactions"});
     model.enabled = true;
     auto read = [&](const char* key, double& value, double low, double high) {
       value = number(node, field, key, value, low, high);
@@ -246,6 +246,7 @@ class Parser {
     read("metal_tail_decay_deg", model.metal_tail_decay_deg, 0.1, 90.0);
     read("diffuse_max_incidence_deg", model.diffuse_max_incidence_deg, 0.0, 90.0);
     read("grazing_dropout", model.grazing_dropout, 0.0, 1.0);
+    read("range_dropout", model.range_dropout, 0.0, 1.0);
     read("gloss_probability", model.gloss_probability, 0.0, 1.0);
     model.max_interactions = static_cast<int>(
         number(node, field, "max_interactions", model.max_interactions, 0.0, 32.0));

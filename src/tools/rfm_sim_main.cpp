@@ -227,8 +227,7 @@ int main(int argc, char** argv) {
     if (!options.count(flag)) continue;
     *target = parseNonNegative(options[flag]);
     if (!*target) {
-      std::cerr << "rfm_sim: " << flag << " must be a number >= 0, got '" << options[flag]
-                << "'\n";
+      std::cerr << "rfm_sim: " << flag << " must be a number >= 0, got '" << options[flag] << "'\n";
       return 2;
     }
   }
@@ -257,7 +256,8 @@ int main(int argc, char** argv) {
       if (overrides.setup) random_options.setup = *overrides.setup;
       random_options.duration = overrides.duration;
       if (overrides.keep_every_m || overrides.keep_every_deg) {
-        random_options.logger = overrides.logger(rfm::sim::sensorSetup(random_options.setup).logger);
+        random_options.logger =
+            overrides.logger(rfm::sim::sensorSetup(random_options.setup).logger);
       }
       random_options.odometry_drift = !no_drift;
       scene_text = rfm::sim::generateRandomScene(random_options).yaml;

@@ -72,10 +72,12 @@ struct RealisticPhysics {
   double metal_tail_probability = 0.1;
   double metal_tail_decay_deg = 10.0;
   // Diffuse surfaces return up to this incidence; a returned beam is lost with probability
-  // grazing_dropout * (incidence / diffuse_max_incidence_deg)^4 (faint spot at grazing), and a
+  // grazing_dropout * (incidence / diffuse_max_incidence_deg)^6 (faint spot at grazing) plus
+  // range_dropout * (range / range_max)^2 (dark surfaces fade before the sensor's range), and a
   // beam past the limit bounces specularly with probability gloss_probability (glossy paint).
   double diffuse_max_incidence_deg = 86.0;
   double grazing_dropout = 0.2;
+  double range_dropout = 0.1;
   double gloss_probability = 0.1;
   int max_interactions = 4;
 

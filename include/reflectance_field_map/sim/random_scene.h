@@ -1,5 +1,6 @@
 // rfm_sim --random SEED: a whole scene drawn from a seed (floor plan, people, robot path, the
-// physics of its glass, metal and sensors, and odometry drift), returned as its scene file. ROS-free.
+// physics of its glass, metal and sensors, and odometry drift), returned as its scene file.
+// ROS-free.
 #pragma once
 
 #include <cstdint>

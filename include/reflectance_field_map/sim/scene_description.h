@@ -23,8 +23,8 @@ struct WallDescription {
   enum class Type { kSegment, kPolyline, kArc };
   Type type = Type::kSegment;
   Material material = Material::kDiffuse;
-  std::vector<Eigen::Vector2d> points;  // segment, polyline
-  bool closed = false;                  // polyline
+  std::vector<Eigen::Vector2d> points;               // segment, polyline
+  bool closed = false;                               // polyline
   Eigen::Vector2d center = Eigen::Vector2d::Zero();  // arc
   double radius = 0.0, start_deg = 0.0, end_deg = 0.0;
   double frame = 0.0;  // written always: the loader's default differs by material
