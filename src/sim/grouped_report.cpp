@@ -88,7 +88,7 @@ std::string buildGroupedReport(const std::vector<EvaluationEntry>& entries,
          "likewise (cell-weighted). Kept and removed as in the paper's Table I; P and R are the "
          "precision and recall (%) of the classes drawn in classes.pgm against the world's "
          "materials. The target row is issue 35's, for the full RFM.\n\n"
-      << "| setup | seeds | mapper | " << kColumns << "\n|---|---|---|" << kAlignment << "\n"
+      << "| setup | seeds | mapper | " << kColumns << " |\n|---|---|---|" << kAlignment << "\n"
       << "| target | | RFM | 99.0 | 99.0 | 99.5 | 99.7 | 99.0 | >= 90 | >= 95 | | | | | <= 2 |\n";
   for (const std::string& setup : setups) {
     for (const std::string& split : splits_of[setup]) {
@@ -116,7 +116,7 @@ std::string buildGroupedReport(const std::vector<EvaluationEntry>& entries,
         if (t.cells) out << "\n" << t.cells->toMarkdown();
       }
     }
-    out << "\n### Per scene\n\n| scene | seeds | mapper | " << kColumns << "\n|---|---|---|"
+    out << "\n### Per scene\n\n| scene | seeds | mapper | " << kColumns << " |\n|---|---|---|"
         << kAlignment << "\n";
     for (const EvaluationEntry& entry : entries) {
       if (entry.setup != setup) continue;

@@ -90,7 +90,10 @@ SimScan LidarSensor::scan(const BeamTracer& tracer, const Pose2& robot_pose, dou
     const BeamResult beam =
         tracer.trace(origin, direction, spec_.range_max, people, specular_window_rad, rng);
     // Noise and dropout are drawn for every beam, echo or not, to keep the random stream simple.
-    const double range_noise = spec_.range_noise_sigma > 0.0 ? noise(rng) : 0.0;
+    double range_noise = spec_.range_noise_sigma > 0.0 ? noise(rng) : 0.0;
+    if (spec_.range_noise_per_m > 0.0 && range_noise != 0.0 && std::isfinite(beam.range)) {
+      range_noise *= 1.0 + spec_.range_noise_per_m * beam.range / spec_.range_noise_sigma;
+    }
     const bool dropped = uniform(rng) < spec_.dropout_probability;
     encodeBeam(spec_, beam, range_noise, dropped, result.ranges[i], result.classes[i]);
   }

@@ -358,11 +358,9 @@ class Parser {
     for (std::size_t i = 0; i < scene.lidars.size(); ++i) {
       const LidarSpec& lidar = scene.lidars[i];
       if (scene.physics.enabled) break;
-      if (lidar.sweep || lidar.range_noise_per_m > 0.0 || lidar.mount_pitch != 0.0 ||
-          lidar.mount_roll != 0.0) {
+      if (lidar.sweep || lidar.mount_pitch != 0.0 || lidar.mount_roll != 0.0) {
         fail(index("lidars", i),
-             "sweep, range_noise_per_m and mount tilts need the physics section (the realistic "
-             "sensor model)");
+             "sweep and mount tilts need the physics section (the realistic sensor model)");
       }
     }
   }

@@ -26,10 +26,10 @@ struct LidarSpec {
   double time_offset = 0.0;  // first scan at scene time `time_offset`, then every 1 / rate_hz
   double range_noise_sigma = 0.012;
   double dropout_probability = 0.02;  // random missing echoes (dark spots, sensor misses)
-  // Read by the realistic sensor model only (scenes with a `physics` section):
-  double range_noise_per_m = 0.0;  // the noise's standard deviation grows this much per metre
-  // Beams are taken one after another as the mirror turns (REP-117 time_increment), so the robot
-  // and people move during a scan; otherwise every beam is taken at the scan's stamp.
+  double range_noise_per_m = 0.0;     // the noise's standard deviation grows this much per metre
+  // Read by the realistic sensor model only (scenes with a `physics` section): beams are taken one
+  // after another as the mirror turns (REP-117 time_increment), so the robot and people move
+  // during a scan; otherwise every beam is taken at the scan's stamp.
   bool sweep = false;
   double mirror_hz = 0.0;  // mirror revolutions per second (0: one per scan, rate_hz)
   double mount_pitch = 0.0, mount_roll = 0.0;  // static tilt of the scan plane, rad
