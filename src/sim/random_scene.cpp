@@ -86,6 +86,7 @@ TrajectorySpec trajectoryOf(const RobotDescription& robot) {
   spec.turn_rate = robot.turn_rate_deg * kDegToRad;
   spec.start_delay = robot.start_delay;
   spec.waypoints = robot.waypoints;
+  spec.pauses = robot.pauses;
   return spec;
 }
 
@@ -139,6 +140,11 @@ RobotDescription drawRobot(Dice& dice, const FloorPlan& plan, const NavigationGr
       has_heading = true;
       time += leg.norm() / robot.speed;
       robot.waypoints.push_back(point);
+    }
+    if (dice.chance(0.3)) {  // waits at its goal: a door, a lift, someone in the way
+      robot.pauses.resize(robot.waypoints.size(), 0.0);
+      robot.pauses.back() = rounded(dice.uniform(2.0, 10.0), 10);
+      time += robot.pauses.back();
     }
   }
   if (robot.waypoints.size() < 2) throw std::runtime_error("random scene: no path for the robot");

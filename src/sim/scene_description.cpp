@@ -165,7 +165,16 @@ std::string sceneToYaml(const SceneDescription& scene) {
       << "  speed: " << formatNumber(scene.robot.speed) << "\n"
       << "  turn_rate_deg: " << formatNumber(scene.robot.turn_rate_deg) << "\n"
       << "  start_delay: " << formatNumber(scene.robot.start_delay) << "\n"
-      << "  waypoints: " << points(scene.robot.waypoints) << "\n";
+      << "  waypoints: [";
+  for (std::size_t i = 0; i < scene.robot.waypoints.size(); ++i) {
+    const Eigen::Vector2d& w = scene.robot.waypoints[i];
+    out << (i ? ", " : "") << "[" << formatNumber(w.x()) << ", " << formatNumber(w.y());
+    if (i < scene.robot.pauses.size() && scene.robot.pauses[i] > 0.0) {
+      out << ", " << formatNumber(scene.robot.pauses[i]);
+    }
+    out << "]";
+  }
+  out << "]\n";
   return out.str();
 }
 

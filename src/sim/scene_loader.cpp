@@ -441,7 +441,19 @@ class Parser {
       spec.initial_yaw = number(node, field, "initial_yaw_deg", 0.0, -360.0, 360.0) * kDegToRad;
     }
     spec.loop = boolean(node, field, "loop", false);
-    spec.waypoints = points(node, field, "waypoints", 1);
+    const std::string waypoints_field = join(field, "waypoints");
+    const YAML::Node waypoints = node["waypoints"];
+    if (!waypoints) fail(waypoints_field, "missing (required)");
+    if (!waypoints.IsSequence() || waypoints.size() == 0) {
+      fail(waypoints_field, "expected a non-empty list of [x, y] or [x, y, pause_s]");
+    }
+    for (std::size_t i = 0; i < waypoints.size(); ++i) {
+      double pause = 0.0;
+      spec.waypoints.push_back(point(waypoints[i], index(waypoints_field, i), &pause));
+      if (pause < 0.0) fail(index(index(waypoints_field, i), 2), "pause must be >= 0");
+      if (pause > 0.0) spec.pauses.resize(spec.waypoints.size(), 0.0);
+      if (pause > 0.0) spec.pauses.back() = pause;
+    }
     return spec;
   }
 

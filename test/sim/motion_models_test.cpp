@@ -155,6 +155,28 @@ TEST(ScanLoggerTest, KeepsAScanPerDistanceOrTurnPerLidar) {
   EXPECT_THROW(ScanLogger(spec, 1), std::invalid_argument);
 }
 
+TEST(RobotPauseTest, TheRobotWaitsAtAWaypointBeforeDrivingOn) {
+  const Scene scene = parseScene(R"(
+name: wait
+duration: 30
+walls: [{type: segment, material: diffuse, points: [[0, 5], [10, 5]]}]
+robot: {speed: 1.0, start_delay: 0, waypoints: [[0, 0], [4, 0, 5.0], [8, 0]]}
+)");
+  ASSERT_EQ(scene.robot.pauses.size(), 2u);
+  const RobotTrajectory trajectory(scene.robot, scene.duration);
+  EXPECT_NEAR(trajectory.stateAt(4.5).pose.x, 4.0, 1e-9);  // arrived at 4 s, waits until 9 s
+  EXPECT_DOUBLE_EQ(trajectory.stateAt(8.9).linear_velocity, 0.0);
+  EXPECT_NEAR(trajectory.stateAt(11.0).pose.x, 6.0, 1e-9);
+  EXPECT_NEAR(trajectory.motionEndTime(), 13.0, 1e-9);
+  EXPECT_THROW(parseScene(R"(
+name: bad
+duration: 3
+walls: [{type: segment, material: diffuse, points: [[0, 5], [10, 5]]}]
+robot: {waypoints: [[0, 0], [4, 0, -1]]}
+)"),
+               SceneError);
+}
+
 TEST(ChassisTiltTest, BumpsRockTheChassisWhileDrivingAndItSettlesWhenStanding) {
   TrajectorySpec path;
   path.waypoints = {{0, 0}, {40, 0}};

@@ -38,6 +38,7 @@ struct RobotDescription {
   double turn_rate_deg = 45.0;
   double start_delay = 1.0;
   std::vector<Eigen::Vector2d> waypoints;
+  std::vector<double> pauses;  // s waited on arrival at each waypoint (missing: none)
 };
 
 struct SceneDescription {
