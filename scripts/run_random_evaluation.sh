@@ -21,30 +21,25 @@
 #   RFM_WS       catkin workspace with the built package (default: rfm_ws beside the checkout)
 #   RFM_OFFLINE  mapper command (default: "rosrun reflectance_field_map rfm_offline"), called as
 #                $RFM_OFFLINE --bag SIM.bag --out DIR --scan-topics /a[,/b] [--baseline]; it must
-#                write DIR/labels.bag,
-#                DIR/map.yaml and DIR/classes.pgm
+#                write DIR/labels.bag, DIR/map.yaml and DIR/classes.pgm
 set -euo pipefail
 export PATH=/usr/bin:$PATH
 
 cd "$(dirname "${BASH_SOURCE[0]}")"
 REPO="$(git rev-parse --show-toplevel)"
 source "$REPO/scripts/workspace.sh"
-RFM_WS="$rfm_ws"
 OUT="${OUT:-/tmp/rfm_random_eval}"
 REPORT="${REPORT:-$REPO/doc/random_evaluation.md}"
 SEEDS="${SEEDS:-1001 1002}"
 DURATION="${DURATION-40}"
 read -r -a OFFLINE <<< "${RFM_OFFLINE:-rosrun reflectance_field_map rfm_offline}"
 
-if [[ ! -f "$RFM_WS/devel/setup.bash" ]]; then
-  echo "run_random_evaluation.sh: $RFM_WS/devel/setup.bash not found; build the workspace or set" \
+if [[ ! -f "$rfm_ws/devel/setup.bash" ]]; then
+  echo "run_random_evaluation.sh: $rfm_ws/devel/setup.bash not found; build the workspace or set" \
     "RFM_WS" >&2
   exit 1
 fi
-set +u  # setup.bash reads unset variables
-# shellcheck disable=SC1091
-source "$RFM_WS/devel/setup.bash"
-set -u
+rfm_activate
 
 if [[ -z "${SETUPS:-}" ]]; then
   SETUPS="$(rosrun reflectance_field_map rfm_sim --list-setups | sed -n 's/^\([a-z0-9_]*\): .*/\1/p' |

@@ -6,17 +6,14 @@
 #include <stdexcept>
 #include <string>
 
+#include "require_range.h"
+
 namespace rfm::sim {
 namespace {
 
 constexpr double kDegToRad = M_PI / 180.0;
 
-void requireRange(double value, double low, double high, const char* name) {
-  if (!(value >= low && value <= high)) {
-    throw std::invalid_argument(std::string(name) + " must be in [" + std::to_string(low) + ", " +
-                                std::to_string(high) + "], got " + std::to_string(value));
-  }
-}
+using detail::requireRange;
 
 }  // namespace
 

@@ -35,6 +35,17 @@ World tinyWorld() {
   return world;
 }
 
+// Row y = 2 (third from the top): wall cells 0-3 drawn S, S, G, M; cell 4 (mixed) S; glass
+// cells 5-6 drawn G, F; metal cells 7-8 drawn M, X; metal cell 9 unknown: not observed. A glass
+// cell is drawn where a person stood (y = 0, x = 2); the mirror (x = 9, y = 0) is drawn glass.
+ClassGrid mixedDrawing() {
+  return grid({{F, F, F, F, F, F, F, F, U, U},
+               {F, F, F, F, F, F, F, F, U, U},
+               {S, S, G, M, S, G, F, M, X, U},
+               {F, F, F, F, F, F, F, F, U, U},
+               {F, F, G, F, F, F, F, F, F, G}});
+}
+
 TEST(CellEvaluationTest, RasterisesMaterialsPerCellAndMarksSharedCellsMixed) {
   const ClassGrid classes =
       grid(std::vector<std::vector<std::uint8_t>>(5, std::vector<std::uint8_t>(10, F)));
@@ -52,14 +63,7 @@ TEST(CellEvaluationTest, RasterisesMaterialsPerCellAndMarksSharedCellsMixed) {
 }
 
 TEST(CellEvaluationTest, CountsExactlyWithoutTolerance) {
-  // Row y = 2 (third from the top): wall cells 0-3 drawn S, S, G, M; cell 4 (mixed) S; glass
-  // cells 5-6 drawn G, F; metal cells 7-8 drawn M, X; metal cell 9 unknown: not observed. A glass
-  // cell is drawn where a person stood (y = 0, x = 2); the mirror (x = 9, y = 0) is drawn glass.
-  const ClassGrid classes = grid({{F, F, F, F, F, F, F, F, U, U},
-                                  {F, F, F, F, F, F, F, F, U, U},
-                                  {S, S, G, M, S, G, F, M, X, U},
-                                  {F, F, F, F, F, F, F, F, U, U},
-                                  {F, F, G, F, F, F, F, F, F, G}});
+  const ClassGrid classes = mixedDrawing();
   const CellConfusion c =
       CellConfusion::evaluate(classes, rasterizeSurfaces(tinyWorld(), classes), 0);
 
@@ -133,11 +137,7 @@ TEST(CellEvaluationTest, WallsNearOnlyGlassCountAsDrawnGlass) {
 }
 
 TEST(CellEvaluationTest, JsonRoundTripAndMerge) {
-  const ClassGrid classes = grid({{F, F, F, F, F, F, F, F, U, U},
-                                  {F, F, F, F, F, F, F, F, U, U},
-                                  {S, S, G, M, S, G, F, M, X, U},
-                                  {F, F, F, F, F, F, F, F, U, U},
-                                  {F, F, G, F, F, F, F, F, F, G}});
+  const ClassGrid classes = mixedDrawing();
   const CellConfusion c =
       CellConfusion::evaluate(classes, rasterizeSurfaces(tinyWorld(), classes), 0);
   EXPECT_EQ(CellConfusion::fromJson(c.toJson()), c);

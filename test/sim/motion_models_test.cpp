@@ -93,13 +93,18 @@ TEST(OdometryTest, WithoutDriftItIsTheTruePath) {
   EXPECT_DOUBLE_EQ(pose.yaw, 0.5);
 }
 
-TEST(OdometryTest, SystematicErrorsScaleTheDistanceAndBendTheHeading) {
+// Drift switched on with every error at zero: each test sets the one it checks.
+OdometryDrift noErrors() {
   OdometryDrift drift;
   drift.enabled = true;
   drift.xy_noise = drift.yaw_noise_deg = drift.turn_noise_deg = 0.0;
+  drift.scale_error = drift.turn_scale_error = drift.yaw_bias_deg_per_m = 0.0;
+  return drift;
+}
+
+TEST(OdometryTest, SystematicErrorsScaleTheDistanceAndBendTheHeading) {
+  OdometryDrift drift = noErrors();
   drift.scale_error = 0.02;
-  drift.turn_scale_error = 0.0;
-  drift.yaw_bias_deg_per_m = 0.0;
   OdometryModel scaled(drift, {}, 1);
   EXPECT_NEAR(driveEast(scaled, 20.0).x, 20.4, 1e-6);
 
@@ -118,10 +123,7 @@ TEST(OdometryTest, SystematicErrorsScaleTheDistanceAndBendTheHeading) {
 }
 
 TEST(OdometryTest, RandomWalkGrowsWithTheSquareRootOfTheDistance) {
-  OdometryDrift drift;
-  drift.enabled = true;
-  drift.scale_error = drift.turn_scale_error = drift.yaw_bias_deg_per_m = 0.0;
-  drift.turn_noise_deg = 0.0;
+  OdometryDrift drift = noErrors();
   drift.yaw_noise_deg = 0.5;
   double sum_short = 0.0, sum_long = 0.0;
   const int runs = 200;
