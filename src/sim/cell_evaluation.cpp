@@ -196,8 +196,9 @@ ClassGrid readClassGrid(const std::string& directory) {
   const std::string pgm_path = (std::filesystem::path(directory) / "classes.pgm").string();
   double resolution = 0.0;
   Eigen::Vector2d origin;
+  const std::string yaml_text = readAll(yaml_path);
   try {
-    const YAML::Node map = YAML::Load(readAll(yaml_path));
+    const YAML::Node map = YAML::Load(yaml_text);
     if (!map["resolution"] || !map["origin"] || !map["origin"].IsSequence() ||
         map["origin"].size() < 2) {
       throw std::runtime_error("needs resolution and origin [x, y, yaw]");

@@ -96,60 +96,83 @@ bool inside(const FloorPlan& plan, const Vec& p) {
 }
 
 // A wheelchair's drive from room to room until the scene's time is used up.
-RobotDescription drawRobot(Dice& dice, const FloorPlan& plan, const NavigationGrid& grid,
-                           double duration) {
-  RobotDescription robot;
-  robot.speed = rounded(dice.uniform(0.4, 1.0), 100);
-  robot.turn_rate_deg = rounded(dice.uniform(25.0, 60.0), 10);
-  robot.start_delay = rounded(dice.uniform(0.5, 2.0), 10);
-  std::vector<FloorPlanArea> rooms;
-  for (const FloorPlanArea& area : plan.areas)
-    if (!area.outside) rooms.push_back(area);
-  const double clearance = 0.6;  // wheelchair half-width plus a margin, m
-  auto cellIn = [&](const FloorPlanArea& area) -> std::optional<Vec> {
-    const std::vector<Vec> cells = grid.freeCells(area.low, area.high, clearance);
-    if (cells.empty()) return std::nullopt;
-    const Vec& cell = dice.pick(cells);
-    return Vec(rounded(cell.x(), 100), rounded(cell.y(), 100));
-  };
-  auto insideOnly = [&](const Vec& p) { return inside(plan, p); };
+class DrivePlanner {
+ public:
+  DrivePlanner(Dice& dice, const FloorPlan& plan, const NavigationGrid& grid)
+      : dice_(dice), plan_(plan), grid_(grid) {
+    for (const FloorPlanArea& area : plan.areas)
+      if (!area.outside) rooms_.push_back(area);
+  }
 
-  std::optional<Vec> start;
-  for (int attempt = 0; attempt < 50 && !start; ++attempt)
-    start = cellIn(dice.pick(rooms));
-  if (!start) throw std::runtime_error("random scene: no room for the robot");
-  robot.waypoints.push_back(*start);
-  double time = robot.start_delay;
-  double heading = 0.0;
-  bool has_heading = false;
-  for (int attempt = 0; attempt < 200 && time < duration; ++attempt) {
-    const auto goal = cellIn(dice.pick(rooms));
-    if (!goal || (*goal - robot.waypoints.back()).norm() < 2.0) continue;
-    const auto path = grid.path(robot.waypoints.back(), *goal, clearance, insideOnly);
-    if (!path) continue;
-    for (std::size_t i = 1; i < path->size(); ++i) {
-      const Vec point(rounded((*path)[i].x(), 100), rounded((*path)[i].y(), 100));
-      const Vec leg = point - robot.waypoints.back();
-      if (leg.norm() < 0.05) continue;
-      const double direction = std::atan2(leg.y(), leg.x());
-      if (has_heading) {
-        time += std::abs(std::remainder(direction - heading, 2.0 * M_PI)) /
-                (robot.turn_rate_deg * kDegToRad);
-      }
-      heading = direction;
-      has_heading = true;
-      time += leg.norm() / robot.speed;
-      robot.waypoints.push_back(point);
+  RobotDescription plan(double duration) {
+    RobotDescription robot;
+    robot.speed = rounded(dice_.uniform(0.4, 1.0), 100);
+    robot.turn_rate_deg = rounded(dice_.uniform(25.0, 60.0), 10);
+    robot.start_delay = rounded(dice_.uniform(0.5, 2.0), 10);
+    // A start in a room shut off from the rest (a door too narrow) leads nowhere: start elsewhere.
+    for (int attempt = 0; attempt < 10 && robot.waypoints.size() < 2; ++attempt) {
+      robot.waypoints.clear();
+      robot.pauses.clear();
+      std::optional<Vec> start;
+      for (int tries = 0; tries < 50 && !start; ++tries)
+        start = cellIn(dice_.pick(rooms_));
+      if (!start) throw std::runtime_error("random scene: no room for the robot");
+      robot.waypoints.push_back(*start);
+      drive(robot, duration);
     }
-    if (dice.chance(0.3)) {  // waits at its goal: a door, a lift, someone in the way
-      robot.pauses.resize(robot.waypoints.size(), 0.0);
-      robot.pauses.back() = rounded(dice.uniform(2.0, 10.0), 10);
-      time += robot.pauses.back();
+    if (robot.waypoints.size() < 2) throw std::runtime_error("random scene: no path for the robot");
+    return robot;
+  }
+
+ private:
+  // Half the wheelchair's width (its lidars sit on its axis) plus a margin, m.
+  static constexpr double kClearance = 0.45;
+
+  std::optional<Vec> cellIn(const FloorPlanArea& area) {
+    const std::vector<Vec> cells = grid_.freeCells(area.low, area.high, kClearance);
+    if (cells.empty()) return std::nullopt;
+    const Vec& cell = dice_.pick(cells);
+    return Vec(rounded(cell.x(), 100), rounded(cell.y(), 100));
+  }
+
+  // Appends goals, reached by the shortest clear route inside the building, until `duration`.
+  void drive(RobotDescription& robot, double duration) {
+    auto insideOnly = [&](const Vec& p) { return inside(plan_, p); };
+    double time = robot.start_delay;
+    double heading = 0.0;
+    bool has_heading = false;
+    for (int attempt = 0; attempt < 200 && time < duration; ++attempt) {
+      const auto goal = cellIn(dice_.pick(rooms_));
+      if (!goal || (*goal - robot.waypoints.back()).norm() < 2.0) continue;
+      const auto path = grid_.path(robot.waypoints.back(), *goal, kClearance, insideOnly);
+      if (!path) continue;
+      for (std::size_t i = 1; i < path->size(); ++i) {
+        const Vec point(rounded((*path)[i].x(), 100), rounded((*path)[i].y(), 100));
+        const Vec leg = point - robot.waypoints.back();
+        if (leg.norm() < 0.05) continue;
+        const double direction = std::atan2(leg.y(), leg.x());
+        if (has_heading) {
+          time += std::abs(std::remainder(direction - heading, 2.0 * M_PI)) /
+                  (robot.turn_rate_deg * kDegToRad);
+        }
+        heading = direction;
+        has_heading = true;
+        time += leg.norm() / robot.speed;
+        robot.waypoints.push_back(point);
+      }
+      if (dice_.chance(0.3)) {  // waits at its goal: a door, a lift, someone in the way
+        robot.pauses.resize(robot.waypoints.size(), 0.0);
+        robot.pauses.back() = rounded(dice_.uniform(2.0, 10.0), 10);
+        time += robot.pauses.back();
+      }
     }
   }
-  if (robot.waypoints.size() < 2) throw std::runtime_error("random scene: no path for the robot");
-  return robot;
-}
+
+  Dice& dice_;
+  const FloorPlan& plan_;
+  const NavigationGrid& grid_;
+  std::vector<FloorPlanArea> rooms_;
+};
 
 }  // namespace
 
@@ -173,7 +196,7 @@ RandomScene generateRandomScene(const RandomSceneOptions& options) {
   const NavigationGrid grid(world, plan.world_low - Vec::Constant(1.0),
                             plan.world_high + Vec::Constant(1.0), kGridResolution);
 
-  scene.robot = drawRobot(robot_dice, plan, grid, scene.duration);
+  scene.robot = DrivePlanner(robot_dice, plan, grid).plan(scene.duration);
   const RobotTrajectory trajectory(trajectoryOf(scene.robot), scene.duration);
   scene.people = generateCrowd(people, {world, grid, plan, trajectory, scene.duration});
 
