@@ -113,9 +113,10 @@ PREAMBLE="$OUT/preamble.md"
   echo "seeds are 1001-1100: they are only ever reported, never used to choose a rule or a number."
   echo "Rows say which split their seeds belong to."
   echo
-  echo "This run: setups $SETUPS; seeds $(echo $SEEDS); ${DURATION:-40-80} s a scene; generated"
-  echo "$(date -u +%Y-%m-%d) from commit \`$(git -C "$REPO" rev-parse --short HEAD)\` in about"
-  echo "$minutes minute(s) on $(nproc) cores. Reproduce or enlarge it:"
+  # shellcheck disable=SC2086  # word splitting trims the lists
+  echo "This run: setups $(echo $SETUPS); seeds $(echo $SEEDS); ${DURATION:-40-80} s a scene."
+  echo "Generated $(date -u +%Y-%m-%d) from commit \`$(git -C "$REPO" rev-parse --short HEAD)\`"
+  echo "in about $minutes minute(s) on $(nproc) cores. Reproduce or enlarge it:"
   echo
   echo '    scripts/run_random_evaluation.sh      # SEEDS="1001 1002" SETUPS="..." DURATION=40 OUT=/tmp/rfm_random_eval'
 } > "$PREAMBLE"

@@ -3,11 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <set>
 
 #include "reflectance_field_map/sim/navigation_grid.h"
 #include "reflectance_field_map/sim/random_scene.h"
 #include "reflectance_field_map/sim/scene.h"
+#include "reflectance_field_map/sim/simulator.h"
 
 namespace rfm::sim {
 namespace {
@@ -139,6 +141,88 @@ TEST(RandomSceneTest, OptionsReachTheFile) {
   scene = parseScene(generateRandomScene(options).yaml);
   EXPECT_DOUBLE_EQ(scene.logger.keep_every_m, 0.0);
   EXPECT_DOUBLE_EQ(scene.logger.keep_every_deg, 10.0);
+}
+
+struct ScanRecorder : SimulationSink {
+  void onRobotState(double, const RobotState&, const Pose2&) override {}
+  void onScan(const SimScan& scan, const LidarSpec&) override { scans.push_back(scan); }
+  std::vector<SimScan> scans;
+};
+
+// Sets every `key: value` of the scene text to `value`.
+std::string withAll(std::string text, const std::string& key, const std::string& value) {
+  for (std::size_t at = text.find(key + ": "); at != std::string::npos;
+       at = text.find(key + ": ", at + 1)) {
+    const std::size_t from = at + key.size() + 2;
+    text.replace(from, text.find_first_of(",}\n", from) - from, value);
+  }
+  return text;
+}
+
+TEST(RandomSceneTest, TruthAgreesWithTheWorldBeamByBeam) {
+  // A random scene without noise and with scans taken at one instant, so that every beam can be
+  // traced again from the true pose: a direct return lies on the first surface along the beam
+  // and is of its material, motion is a person in front of it, a reflection lies beyond it.
+  RandomSceneOptions options;
+  options.seed = 1003;
+  options.duration = 6.0;
+  std::string text = generateRandomScene(options).yaml;
+  text = withAll(text, "sweep", "false");
+  text = withAll(text, "range_noise_sigma", "0");
+  text = withAll(text, "range_noise_per_m", "0");
+  const Scene scene = parseScene(text);
+  Simulator simulator(scene, scene.seed);
+  ScanRecorder recorder;
+  simulator.run(recorder);
+  std::vector<Pedestrian> people;
+  for (const PersonSpec& spec : scene.people)
+    people.emplace_back(spec);
+
+  std::map<int, int> checked;
+  for (const SimScan& scan : recorder.scans) {
+    const LidarSpec& lidar = scene.lidars[scan.lidar_index];
+    const Pose2 laser = simulator.trajectory().stateAt(scan.time).pose.compose(lidar.mount());
+    const std::vector<Circle> bodies = peopleAt(people, scan.time);
+    for (int i = 0; i < lidar.beam_count; ++i) {
+      const auto truth = static_cast<BeamClass>(scan.classes[i]);
+      const double range = scan.ranges[i];
+      const double angle = laser.yaw + lidar.beamAngle(i);
+      const Eigen::Vector2d direction(std::cos(angle), std::sin(angle));
+      const auto wall = scene.world.intersect(laser.position(), direction, 1e9, {});
+      const auto first = scene.world.intersect(laser.position(), direction, 1e9, bodies);
+      if (truth == BeamClass::kNoReturn) {
+        EXPECT_FALSE(std::isfinite(range) && range > 0) << i;
+        continue;
+      }
+      ASSERT_TRUE(first.has_value()) << "a return with nothing along beam " << i;
+      const double tolerance = 1e-4 * std::max(1.0, range);
+      ++checked[static_cast<int>(truth)];
+      switch (truth) {
+        case BeamClass::kMotion:
+          EXPECT_TRUE(first->is_person) << i;
+          EXPECT_NEAR(range, first->distance, tolerance) << i;
+          break;
+        case BeamClass::kReflection:
+          EXPECT_GE(range, first->distance - tolerance) << i;
+          break;
+        default: {
+          ASSERT_FALSE(first->is_person) << i;
+          EXPECT_NEAR(range, wall->distance, tolerance) << i;
+          const Material material = wall->material;
+          const bool agrees = truth == BeamClass::kDiffuse ? material == Material::kDiffuse
+                              : truth == BeamClass::kGlass
+                                  ? material == Material::kGlass
+                                  : material == Material::kMetal || material == Material::kMirror;
+          EXPECT_TRUE(agrees) << "beam " << i << " " << beamClassName(truth) << " on "
+                              << materialName(material);
+        }
+      }
+    }
+  }
+  for (const BeamClass beam :
+       {BeamClass::kDiffuse, BeamClass::kGlass, BeamClass::kMotion, BeamClass::kReflection}) {
+    EXPECT_GT(checked[static_cast<int>(beam)], 0) << beamClassName(beam);
+  }
 }
 
 TEST(SceneDescriptionTest, NumbersReadBackExactly) {
