@@ -44,10 +44,20 @@ RealisticPhysics drawPhysics(Dice& dice) {
   return p;
 }
 
+// Odometry with every error at zero: poses corrected by a localiser, as in CARMEN's corrected
+// logs. The scene still has its odometry, so that its bag holds map -> odom like the others.
+OdometryDrift perfectOdometry() {
+  OdometryDrift drift;
+  drift.enabled = true;
+  drift.xy_noise = drift.yaw_noise_deg = drift.turn_noise_deg = 0.0;
+  drift.scale_error = drift.turn_scale_error = drift.yaw_bias_deg_per_m = 0.0;
+  return drift;
+}
+
 // Wheel odometry of the wheelchair's quality, scaled down at random; a quarter of the scenes
-// have none (poses corrected by a localiser, as in CARMEN's corrected logs).
-std::optional<OdometryDrift> drawOdometry(Dice& dice) {
-  if (dice.chance(0.25)) return std::nullopt;
+// have perfect odometry.
+OdometryDrift drawOdometry(Dice& dice) {
+  if (dice.chance(0.25)) return perfectOdometry();
   const double quality = dice.uniform(0.25, 1.0);
   auto sign = [&] { return dice.chance(0.5) ? 1.0 : -1.0; };
   OdometryDrift drift;
@@ -203,8 +213,8 @@ RandomScene generateRandomScene(const RandomSceneOptions& options) {
   scene.physics = drawPhysics(physics);
   scene.lidars = drawLidars(sensors, setup);
   scene.logger = options.logger ? *options.logger : setup.logger;
-  const std::optional<OdometryDrift> drift = drawOdometry(odometry);
-  if (options.odometry_drift) scene.odometry = drift;
+  const OdometryDrift drift = drawOdometry(odometry);
+  scene.odometry = options.odometry_drift ? drift : perfectOdometry();
 
   scene.seed = seed;
   scene.name = "random_" + std::to_string(seed);

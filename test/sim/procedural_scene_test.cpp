@@ -132,7 +132,9 @@ TEST(RandomSceneTest, OptionsReachTheFile) {
   options.odometry_drift = false;
   Scene scene = parseScene(generateRandomScene(options).yaml);
   EXPECT_DOUBLE_EQ(scene.duration, 25.0);
-  EXPECT_FALSE(scene.odometry.enabled);
+  EXPECT_TRUE(scene.odometry.enabled);  // with every error at zero: map -> odom is the identity
+  EXPECT_DOUBLE_EQ(scene.odometry.xy_noise, 0.0);
+  EXPECT_DOUBLE_EQ(scene.odometry.yaw_bias_deg_per_m, 0.0);
   EXPECT_DOUBLE_EQ(scene.logger.keep_every_m, 1.0);  // the setup's logger
   EXPECT_EQ(scene.lidars.front().beam_count, 361);
   ScanLoggerSpec logger;
