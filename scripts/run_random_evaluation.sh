@@ -126,7 +126,7 @@ PREAMBLE="$OUT/preamble.md"
   echo "Generated $(date -u +%Y-%m-%d) from commit \`$(git -C "$REPO" rev-parse --short HEAD)\`"
   echo "in about $minutes minute(s) on $(nproc) cores. Reproduce or enlarge it:"
   echo
-  echo '    scripts/run_random_evaluation.sh      # SEEDS="1001 1002" SETUPS="..." DURATION=40 OUT=/tmp/rfm_random_eval'
+  echo '    scripts/run_random_evaluation.sh   # SEEDS="1001 1002" SETUPS="..." DURATION=40 FIXED_FRAME=odom OUT=...'
 } > "$PREAMBLE"
 
 mkdir -p "$(dirname "$REPORT")"
