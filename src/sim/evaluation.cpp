@@ -240,6 +240,19 @@ std::string buildEvaluationReport(const std::vector<EvaluationEntry>& entries,
       }
     }
   }
+
+  std::map<std::string, CellConfusion> cells;
+  for (const EvaluationEntry& entry : entries)
+    if (entry.cells) cells[entry.config].merge(*entry.cells);
+  if (!cells.empty()) {
+    out << "\n## Class metrics (cells)\n\nThe class drawn in classes.pgm at every cell a true "
+           "surface passes through, against its material, summed over the scenes that have it "
+           "(see doc/simulator.md for the definitions).\n";
+    for (const std::string& config : configs) {
+      if (!cells.count(config)) continue;
+      out << "\n### " << config << "\n\n" << cells[config].toMarkdown();
+    }
+  }
   return out.str();
 }
 

@@ -147,9 +147,13 @@ class Parser {
       const double default_frame = wall_material == Material::kDiffuse ? 0.0 : 0.05;
       const double frame = number(wall, wall_field, "frame", default_frame, 0.0, 1.0);
       const double mullions = number(wall, wall_field, "mullion_spacing", 0.0, 0.0, 1000.0);
+      SurfaceFinish finish;
+      finish.dirt = number(wall, wall_field, "dirt", 0.0, 0.0, 1.0);
+      finish.tilt = number(wall, wall_field, "tilt_deg", 0.0, -5.0, 5.0) * kDegToRad;
       if (type == "segment" || type == "polyline") {
         rejectUnknownKeys(wall, wall_field,
-                          {"type", "material", "points", "frame", "mullion_spacing", "closed"});
+                          {"type", "material", "points", "frame", "mullion_spacing", "closed",
+                           "dirt", "tilt_deg"});
         std::vector<Eigen::Vector2d> corners = points(wall, wall_field, "points", 2);
         if (type == "segment" && corners.size() != 2) {
           fail(join(wall_field, "points"), "a segment has exactly 2 points");
@@ -159,22 +163,23 @@ class Parser {
           if ((corners[k + 1] - corners[k]).norm() < 1e-6) {
             fail(index(join(wall_field, "points"), k + 1), "repeats the previous point");
           }
-          world.addFramedSegment(corners[k], corners[k + 1], wall_material, frame, mullions);
+          world.addFramedSegment(corners[k], corners[k + 1], wall_material, frame, mullions,
+                                 finish);
         }
       } else if (type == "arc") {
         rejectUnknownKeys(wall, wall_field,
                           {"type", "material", "center", "radius", "start_deg", "end_deg", "frame",
-                           "mullion_spacing"});
+                           "mullion_spacing", "dirt", "tilt_deg"});
         if (!wall["center"]) fail(join(wall_field, "center"), "missing (required)");
         const Eigen::Vector2d center = point(wall["center"], join(wall_field, "center"));
-        const double radius = requiredNumber(wall, wall_field, "radius", 0.05, 1000.0);
+        const double radius = requiredNumber(wall, wall_field, "radius", 0.01, 1000.0);
         const double start = requiredNumber(wall, wall_field, "start_deg", -720.0, 720.0);
         const double end = requiredNumber(wall, wall_field, "end_deg", -720.0, 720.0);
         if (end <= start || end - start > 360.0) {
           fail(join(wall_field, "end_deg"), "must satisfy start_deg < end_deg <= start_deg + 360");
         }
         world.addFramedArc(center, radius, start * kDegToRad, end * kDegToRad, wall_material, frame,
-                           mullions);
+                           mullions, finish);
       } else {
         fail(join(wall_field, "type"),
              "unknown wall type '" + type + "' (expected segment, polyline or arc)");
@@ -214,6 +219,152 @@ class Parser {
     return model;
   }
 
+  RealisticPhysics physics(const YAML::Node& node) const {
+    RealisticPhysics model;
+    if (!node) return model;
+    const std::string field = "physics";
+    requireMap(node, field);
+    rejectUnknownKeys(
+        node, field,
+        {"return_cone_deg", "bump_tilt_deg", "bump_correlation_s", "standing_tilt_deg",
+         "refractive_index", "empty_echo_probability", "empty_echo_decay_deg", "metal_lobe_deg",
+         "metal_tail_probability", "metal_tail_decay_deg", "diffuse_max_incidence_deg",
+         "grazing_dropout", "range_dropout", "gloss_probability", "max_interactions"});
+    model.enabled = true;
+    auto read = [&](const char* key, double& value, double low, double high) {
+      value = number(node, field, key, value, low, high);
+    };
+    read("return_cone_deg", model.return_cone_deg, 0.0, 45.0);
+    read("bump_tilt_deg", model.bump_tilt_deg, 0.0, 10.0);
+    read("bump_correlation_s", model.bump_correlation_s, 0.001, 10.0);
+    read("standing_tilt_deg", model.standing_tilt_deg, 0.0, 10.0);
+    read("refractive_index", model.refractive_index, 1.0, 3.0);
+    read("empty_echo_probability", model.empty_echo_probability, 0.0, 1.0);
+    read("empty_echo_decay_deg", model.empty_echo_decay_deg, 0.1, 90.0);
+    read("metal_lobe_deg", model.metal_lobe_deg, 0.0, 90.0);
+    read("metal_tail_probability", model.metal_tail_probability, 0.0, 1.0);
+    read("metal_tail_decay_deg", model.metal_tail_decay_deg, 0.1, 90.0);
+    read("diffuse_max_incidence_deg", model.diffuse_max_incidence_deg, 0.0, 90.0);
+    read("grazing_dropout", model.grazing_dropout, 0.0, 1.0);
+    read("range_dropout", model.range_dropout, 0.0, 1.0);
+    read("gloss_probability", model.gloss_probability, 0.0, 1.0);
+    model.max_interactions = static_cast<int>(
+        number(node, field, "max_interactions", model.max_interactions, 0.0, 32.0));
+    return model;
+  }
+
+  OdometryDrift odometry(const YAML::Node& node) const {
+    OdometryDrift drift;
+    if (!node) return drift;
+    const std::string field = "odometry";
+    if (node.IsNull()) {  // `odometry:` alone: the default wheelchair drift
+      drift.enabled = true;
+      return drift;
+    }
+    requireMap(node, field);
+    rejectUnknownKeys(node, field,
+                      {"xy_noise", "yaw_noise_deg", "turn_noise_deg", "scale_error",
+                       "turn_scale_error", "yaw_bias_deg_per_m"});
+    drift.enabled = true;
+    drift.xy_noise = number(node, field, "xy_noise", drift.xy_noise, 0.0, 1.0);
+    drift.yaw_noise_deg = number(node, field, "yaw_noise_deg", drift.yaw_noise_deg, 0.0, 10.0);
+    drift.turn_noise_deg = number(node, field, "turn_noise_deg", drift.turn_noise_deg, 0.0, 10.0);
+    drift.scale_error = number(node, field, "scale_error", drift.scale_error, -0.2, 0.2);
+    drift.turn_scale_error =
+        number(node, field, "turn_scale_error", drift.turn_scale_error, -0.2, 0.2);
+    drift.yaw_bias_deg_per_m =
+        number(node, field, "yaw_bias_deg_per_m", drift.yaw_bias_deg_per_m, -5.0, 5.0);
+    return drift;
+  }
+
+  ScanLoggerSpec logger(const YAML::Node& node) const {
+    const std::string field = "logger";
+    requireMap(node, field);
+    rejectUnknownKeys(node, field, {"keep_every_m", "keep_every_deg"});
+    ScanLoggerSpec spec;
+    spec.keep_every_m = number(node, field, "keep_every_m", 0.0, 0.0, 100.0);
+    spec.keep_every_deg = number(node, field, "keep_every_deg", 0.0, 0.0, 360.0);
+    return spec;
+  }
+
+  std::vector<LidarSpec> lidars(const YAML::Node& node) const {
+    const std::string field = "lidars";
+    if (!node.IsSequence() || node.size() == 0 || node.size() > 8) {
+      fail(field, "expected a list of 1 to 8 lidars");
+    }
+    std::vector<LidarSpec> result;
+    std::set<std::string> topics, frames;
+    for (std::size_t i = 0; i < node.size(); ++i) {
+      const YAML::Node entry = node[i];
+      const std::string lidar_field = index(field, i);
+      requireMap(entry, lidar_field);
+      rejectUnknownKeys(entry, lidar_field,
+                        {"topic", "frame_id", "mount", "beam_count", "angle_min_deg",
+                         "angle_increment_deg", "range_min", "range_max", "rate_hz", "time_offset",
+                         "range_noise_sigma", "range_noise_per_m", "dropout_probability", "sweep",
+                         "mirror_hz", "mount_pitch_deg", "mount_roll_deg"});
+      LidarSpec lidar;
+      lidar.topic = text(entry, lidar_field, "topic", "");
+      lidar.frame_id = text(entry, lidar_field, "frame_id", "");
+      if (lidar.topic.empty() || lidar.topic[0] != '/') {
+        fail(join(lidar_field, "topic"), "required, an absolute topic name such as /scan");
+      }
+      if (lidar.frame_id.empty()) fail(join(lidar_field, "frame_id"), "missing (required)");
+      if (!topics.insert(lidar.topic).second) fail(join(lidar_field, "topic"), "used twice");
+      if (!frames.insert(lidar.frame_id).second) fail(join(lidar_field, "frame_id"), "used twice");
+      if (const YAML::Node mount = entry["mount"]) {
+        const std::string mount_field = join(lidar_field, "mount");
+        if (!mount.IsSequence() || mount.size() != 4)
+          fail(mount_field, "expected [x, y, z, yaw_deg]");
+        lidar.mount_x = number(mount[0], index(mount_field, 0));
+        lidar.mount_y = number(mount[1], index(mount_field, 1));
+        lidar.mount_z = number(mount[2], index(mount_field, 2));
+        lidar.mount_yaw = number(mount[3], index(mount_field, 3)) * kDegToRad;
+      }
+      lidar.beam_count = static_cast<int>(
+          number(entry, lidar_field, "beam_count", lidar.beam_count, 1.0, 100000.0));
+      lidar.angle_min =
+          number(entry, lidar_field, "angle_min_deg", lidar.angle_min / kDegToRad, -180.0, 180.0) *
+          kDegToRad;
+      lidar.angle_increment = number(entry, lidar_field, "angle_increment_deg",
+                                     lidar.angle_increment / kDegToRad, 0.01, 10.0) *
+                              kDegToRad;
+      lidar.range_min = number(entry, lidar_field, "range_min", lidar.range_min, 0.0, 10.0);
+      lidar.range_max = number(entry, lidar_field, "range_max", lidar.range_max, 0.5, 200.0);
+      lidar.rate_hz = number(entry, lidar_field, "rate_hz", lidar.rate_hz, 1.0, 200.0);
+      lidar.time_offset = number(entry, lidar_field, "time_offset", 0.0, 0.0, 1.0);
+      lidar.range_noise_sigma =
+          number(entry, lidar_field, "range_noise_sigma", lidar.range_noise_sigma, 0.0, 0.5);
+      lidar.range_noise_per_m = number(entry, lidar_field, "range_noise_per_m", 0.0, 0.0, 0.05);
+      lidar.dropout_probability =
+          number(entry, lidar_field, "dropout_probability", lidar.dropout_probability, 0.0, 1.0);
+      lidar.sweep = boolean(entry, lidar_field, "sweep", false);
+      lidar.mirror_hz = number(entry, lidar_field, "mirror_hz", 0.0, 0.0, 1000.0);
+      lidar.mount_pitch = number(entry, lidar_field, "mount_pitch_deg", 0.0, -5.0, 5.0) * kDegToRad;
+      lidar.mount_roll = number(entry, lidar_field, "mount_roll_deg", 0.0, -5.0, 5.0) * kDegToRad;
+      try {
+        lidar.validate();
+      } catch (const std::invalid_argument& error) {
+        fail(lidar_field, error.what());
+      }
+      result.push_back(lidar);
+    }
+    return result;
+  }
+
+  // The realistic sensor model runs only with the realistic physics, so its lidar settings would
+  // silently do nothing without it.
+  void requirePhysicsForRealisticLidars(const Scene& scene) const {
+    for (std::size_t i = 0; i < scene.lidars.size(); ++i) {
+      const LidarSpec& lidar = scene.lidars[i];
+      if (scene.physics.enabled) break;
+      if (lidar.sweep || lidar.mount_pitch != 0.0 || lidar.mount_roll != 0.0) {
+        fail(index("lidars", i),
+             "sweep and mount tilts need the physics section (the realistic sensor model)");
+      }
+    }
+  }
+
   std::vector<PersonSpec> people(const YAML::Node& node, double duration) const {
     std::vector<PersonSpec> result;
     if (!node) return result;
@@ -224,7 +375,8 @@ class Parser {
       const std::string person_field = index(field, i);
       requireMap(entry, person_field);
       rejectUnknownKeys(entry, person_field,
-                        {"name", "radius", "speed", "start_time", "end_time", "loop", "waypoints"});
+                        {"name", "radius", "speed", "start_time", "end_time", "loop", "waypoints",
+                         "legs", "leg_radius"});
       PersonSpec person;
       person.name = text(entry, person_field, "name", "person" + std::to_string(i));
       person.radius = number(entry, person_field, "radius", person.radius, 0.05, 1.0);
@@ -235,6 +387,8 @@ class Parser {
         fail(join(person_field, "end_time"), "must be after start_time");
       }
       person.loop = boolean(entry, person_field, "loop", false);
+      person.legs = boolean(entry, person_field, "legs", false);
+      person.leg_radius = number(entry, person_field, "leg_radius", person.leg_radius, 0.02, 0.2);
       const std::string waypoints_field = join(person_field, "waypoints");
       const YAML::Node waypoints = entry["waypoints"];
       if (!waypoints) fail(waypoints_field, "missing (required)");
@@ -247,6 +401,11 @@ class Parser {
         if (waypoint.pause < 0.0) fail(index(index(waypoints_field, k), 2), "pause must be >= 0");
         person.waypoints.push_back(waypoint);
       }
+      try {
+        Pedestrian check(person);
+      } catch (const std::invalid_argument& error) {
+        fail(join(person_field, "radius"), error.what());
+      }
       result.push_back(person);
     }
     return result;
@@ -255,30 +414,15 @@ class Parser {
   // People are solid: a path through a pillar or a desk would fuse the person with structure in
   // a way no real scene can, so such a scene is an error, not a harder test.
   void rejectPathsThroughWalls(const std::vector<PersonSpec>& people, const World& world) const {
-    constexpr int kDirections = 16;
-    constexpr double kStep = 0.05;  // m along the path
     for (std::size_t i = 0; i < people.size(); ++i) {
-      const PersonSpec& person = people[i];
-      const std::size_t n = person.waypoints.size();
-      const std::size_t legs = person.loop && n > 1 ? n : n - 1;
-      for (std::size_t k = 0; k < std::max<std::size_t>(legs, 1); ++k) {
-        const Eigen::Vector2d from = person.waypoints[k].position;
-        const Eigen::Vector2d to = person.waypoints[(k + 1) % n].position;
-        const int samples = static_cast<int>(std::ceil((to - from).norm() / kStep));
-        for (int j = 0; j <= samples; ++j) {
-          const Eigen::Vector2d centre = from + (to - from) * (samples ? double(j) / samples : 0.0);
-          for (int d = 0; d < kDirections; ++d) {
-            const double angle = 2.0 * M_PI * d / kDirections;
-            const Eigen::Vector2d direction(std::cos(angle), std::sin(angle));
-            if (!world.intersect(centre, direction, person.radius, {}, -1, 0.0)) continue;
-            std::ostringstream message;
-            message << "the walk from (" << from.x() << ", " << from.y() << ") to (" << to.x()
-                    << ", " << to.y() << ") runs into a wall at (" << centre.x() << ", "
-                    << centre.y() << "): people cannot pass through walls";
-            fail(index(join(index("people", i), "waypoints"), k), message.str());
-          }
-        }
-      }
+      const std::optional<WallCollision> collision = findWallCollision(people[i], world);
+      if (!collision) continue;
+      std::ostringstream message;
+      message << "the walk from (" << collision->from.x() << ", " << collision->from.y() << ") to ("
+              << collision->to.x() << ", " << collision->to.y() << ") runs into a wall at ("
+              << collision->at.x() << ", " << collision->at.y()
+              << "): people cannot pass through walls";
+      fail(index(join(index("people", i), "waypoints"), collision->waypoint), message.str());
     }
   }
 
@@ -297,7 +441,19 @@ class Parser {
       spec.initial_yaw = number(node, field, "initial_yaw_deg", 0.0, -360.0, 360.0) * kDegToRad;
     }
     spec.loop = boolean(node, field, "loop", false);
-    spec.waypoints = points(node, field, "waypoints", 1);
+    const std::string waypoints_field = join(field, "waypoints");
+    const YAML::Node waypoints = node["waypoints"];
+    if (!waypoints) fail(waypoints_field, "missing (required)");
+    if (!waypoints.IsSequence() || waypoints.size() == 0) {
+      fail(waypoints_field, "expected a non-empty list of [x, y] or [x, y, pause_s]");
+    }
+    for (std::size_t i = 0; i < waypoints.size(); ++i) {
+      double pause = 0.0;
+      spec.waypoints.push_back(point(waypoints[i], index(waypoints_field, i), &pause));
+      if (pause < 0.0) fail(index(index(waypoints_field, i), 2), "pause must be >= 0");
+      if (pause > 0.0) spec.pauses.resize(spec.waypoints.size(), 0.0);
+      if (pause > 0.0) spec.pauses.back() = pause;
+    }
     return spec;
   }
 
@@ -338,21 +494,43 @@ class Parser {
   Scene scene(const YAML::Node& root) const {
     if (!root || !root.IsMap()) fail("", "expected a YAML mapping at the top level");
     rejectUnknownKeys(root, "",
-                      {"name", "description", "duration", "seed", "materials", "walls", "people",
-                       "robot", "sensors", "tf_rate_hz", "odom_rate_hz"});
+                      {"name", "description", "duration", "seed", "materials", "physics", "walls",
+                       "people", "robot", "setup", "lidars", "sensors", "odometry", "logger",
+                       "tf_rate_hz", "odom_rate_hz"});
     Scene scene;
     scene.name = text(root, "", "name", "");
     if (scene.name.empty()) fail("name", "missing (required)");
     scene.description = text(root, "", "description", "");
     scene.duration = requiredNumber(root, "", "duration", 0.1, 3600.0);
     scene.seed = static_cast<std::uint32_t>(number(root, "", "seed", 1.0, 0.0, 4294967295.0));
+    if (root["materials"] && root["physics"]) {
+      fail("physics",
+           "give either materials (the ideal beam model) or physics (the realistic one)");
+    }
     scene.materials = materials(root["materials"]);
+    scene.physics = physics(root["physics"]);
     walls(root["walls"], scene.world);
     scene.people = people(root["people"], scene.duration);
     rejectPathsThroughWalls(scene.people, scene.world);
     scene.robot = robot(root["robot"]);
-    scene.lidars = defaultWheelchairLidars();
+    if (root["setup"] && root["lidars"]) fail("lidars", "give either setup or lidars, not both");
+    if (root["setup"]) {
+      try {
+        const SensorSetup& setup = sensorSetup(text(root, "", "setup", ""));
+        scene.lidars = setup.lidars;
+        scene.logger = setup.logger;
+      } catch (const std::invalid_argument& error) {
+        fail("setup", error.what());
+      }
+    } else if (root["lidars"]) {
+      scene.lidars = lidars(root["lidars"]);
+    } else {
+      scene.lidars = defaultWheelchairLidars();
+    }
     sensors(root["sensors"], scene.lidars);
+    requirePhysicsForRealisticLidars(scene);
+    if (root["logger"]) scene.logger = logger(root["logger"]);
+    scene.odometry = odometry(root["odometry"]);
     scene.tf_rate_hz = number(root, "", "tf_rate_hz", scene.tf_rate_hz, 50.0, 1000.0);
     scene.odom_rate_hz = number(root, "", "odom_rate_hz", scene.odom_rate_hz, 1.0, 1000.0);
     return scene;
@@ -363,21 +541,6 @@ class Parser {
 };
 
 }  // namespace
-
-std::vector<LidarSpec> defaultWheelchairLidars() {
-  LidarSpec front;
-  front.topic = "/scan_front";
-  front.frame_id = "laser_front";
-  front.mount_x = 0.35;
-  front.mount_yaw = 0.0;
-  LidarSpec rear = front;
-  rear.topic = "/scan_rear";
-  rear.frame_id = "laser_rear";
-  rear.mount_x = -0.35;
-  rear.mount_yaw = M_PI;
-  rear.time_offset = 0.5 / rear.rate_hz;
-  return {front, rear};
-}
 
 Scene parseScene(const std::string& yaml_text, const std::string& source) {
   YAML::Node root;

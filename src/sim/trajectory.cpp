@@ -62,6 +62,10 @@ RobotTrajectory::RobotTrajectory(const TrajectorySpec& spec, double horizon) {
       current.x = goal.x();
       current.y = goal.y();
     }
+    if (target < spec.pauses.size() && spec.pauses[target] > 0.0) {
+      phases_.push_back({time, time + spec.pauses[target], current, 0.0, 0.0});
+      time += spec.pauses[target];
+    }
     ++target;
     if (target == points.size()) {
       if (!spec.loop) break;

@@ -73,13 +73,14 @@ const char* materialName(Material material) {
   return "unknown";
 }
 
-void World::addSegment(const Eigen::Vector2d& a, const Eigen::Vector2d& b, Material material) {
+void World::addSegment(const Eigen::Vector2d& a, const Eigen::Vector2d& b, Material material,
+                       const SurfaceFinish& finish) {
   if ((b - a).norm() <= 1e-9) return;
-  segments_.push_back({a, b, material});
+  segments_.push_back({a, b, material, finish});
 }
 
 void World::addArc(const Eigen::Vector2d& center, double radius, double start_angle,
-                   double end_angle, Material material) {
+                   double end_angle, Material material, const SurfaceFinish& finish) {
   double sweep = end_angle - start_angle;
   if (radius <= 0.0 || std::abs(sweep) <= 1e-12) return;
   if (sweep < 0.0) {  // store counter-clockwise
@@ -87,27 +88,28 @@ void World::addArc(const Eigen::Vector2d& center, double radius, double start_an
     sweep = -sweep;
   }
   sweep = std::min(sweep, kTwoPi);
-  arcs_.push_back({center, radius, wrapPositive(start_angle), sweep, material});
+  arcs_.push_back({center, radius, wrapPositive(start_angle), sweep, material, finish});
 }
 
 void World::addFramedSegment(const Eigen::Vector2d& a, const Eigen::Vector2d& b, Material material,
-                             double frame_length, double mullion_spacing) {
+                             double frame_length, double mullion_spacing,
+                             const SurfaceFinish& finish) {
   const double length = (b - a).norm();
   if (length <= 1e-9) return;
   const Eigen::Vector2d along = (b - a) / length;
   for (const Piece& piece : framedPieces(length, material, frame_length, mullion_spacing)) {
-    addSegment(a + along * piece.start, a + along * piece.end, piece.material);
+    addSegment(a + along * piece.start, a + along * piece.end, piece.material, finish);
   }
 }
 
 void World::addFramedArc(const Eigen::Vector2d& center, double radius, double start_angle,
                          double end_angle, Material material, double frame_length,
-                         double mullion_spacing) {
+                         double mullion_spacing, const SurfaceFinish& finish) {
   if (end_angle < start_angle) std::swap(start_angle, end_angle);
   const double arc_length = radius * (end_angle - start_angle);
   for (const Piece& piece : framedPieces(arc_length, material, frame_length, mullion_spacing)) {
     addArc(center, radius, start_angle + piece.start / radius, start_angle + piece.end / radius,
-           piece.material);
+           piece.material, finish);
   }
 }
 
@@ -185,6 +187,11 @@ std::optional<Hit> World::intersect(const Eigen::Vector2d& origin, const Eigen::
   if (!found) return std::nullopt;
   best.point = origin + best.distance * direction;
   return best;
+}
+
+const SurfaceFinish& World::finish(int surface_id) const {
+  const auto id = static_cast<std::size_t>(surface_id);
+  return id < segments_.size() ? segments_.at(id).finish : arcs_.at(id - segments_.size()).finish;
 }
 
 std::pair<Eigen::Vector2d, Eigen::Vector2d> World::bounds() const {

@@ -1,11 +1,17 @@
-// rfm_eval: scores a mapper's per-beam labels against the simulator's ground truth.
+// rfm_eval: scores a mapper's per-beam labels against the simulator's ground truth, and with the
+// scene's world the classes its map draws.
 //
 //   rfm_eval --truth SIM.bag --labels DIR/labels.bag [--out PREFIX]
+//            [--scene SCENE.yaml [--map-dir DIR] [--tolerance-cells N]]
 //       Matches /rfm/ray_labels to /sim/ray_truth by (scan_topic, header.stamp), prints the
-//       confusion matrix and writes PREFIX.md and PREFIX.json (default PREFIX = DIR/eval).
-//   rfm_eval --report MANIFEST --out REPORT.md [--preamble FILE]
-//       Aggregates eval.json files listed in MANIFEST (lines: "config scene path/eval.json") into
-//       one markdown report.
+//       confusion matrix and writes PREFIX.md and PREFIX.json (default PREFIX = DIR/eval). With
+//       --scene (the file the bag was simulated from; rfm_sim --write-scene writes it for random
+//       scenes) it also compares DIR/classes.pgm, placed by DIR/map.yaml, with the world's
+//       materials cell by cell (tolerance 1 cell by default).
+//   rfm_eval --report MANIFEST --out REPORT.md [--preamble FILE] [--title TEXT]
+//       Aggregates eval.json files listed in MANIFEST (lines: "config scene path/eval.json", or
+//       "config scene path/eval.json setup split" for a report grouped by sensor setup and seed
+//       split) into one markdown report.
 #include <reflectance_field_map/RayLabels.h>
 #include <reflectance_field_map/RayTruth.h>
 #include <rosbag/bag.h>
@@ -18,7 +24,14 @@
 #include <string>
 #include <utility>
 
+#include <yaml-cpp/yaml.h>
+
+#include <optional>
+#include <set>
+
+#include "reflectance_field_map/sim/cell_evaluation.h"
 #include "reflectance_field_map/sim/evaluation.h"
+#include "reflectance_field_map/sim/scene.h"
 
 namespace {
 
@@ -27,7 +40,8 @@ const char* const kLabelsTopic = "/rfm/ray_labels";
 
 void printUsage(std::ostream& out) {
   out << "usage: rfm_eval --truth SIM.bag --labels DIR/labels.bag [--out PREFIX]\n"
-         "       rfm_eval --report MANIFEST --out REPORT.md [--preamble FILE]\n";
+         "                [--scene SCENE.yaml [--map-dir DIR] [--tolerance-cells N]]\n"
+         "       rfm_eval --report MANIFEST --out REPORT.md [--preamble FILE] [--title TEXT]\n";
 }
 
 std::string readFile(const std::string& path) {
@@ -51,9 +65,44 @@ std::string directoryOf(const std::string& path) {
 
 using ScanKey = std::pair<std::string, std::uint64_t>;  // (scan_topic, stamp in ns)
 
+struct CellOptions {
+  std::string scene_path;  // empty: no class metrics
+  std::string map_dir;
+  int tolerance = 1;
+};
+
+// The class metrics of the map in `options.map_dir` against the scene's world. The scene must be
+// the one the bag was simulated from: its lidars' topics must be the truth's.
+rfm::sim::CellConfusion evaluateCells(const CellOptions& options,
+                                      const std::set<std::string>& truth_topics) {
+  const rfm::sim::Scene scene = rfm::sim::loadScene(options.scene_path);
+  std::set<std::string> scene_topics;
+  for (const rfm::sim::LidarSpec& lidar : scene.lidars)
+    scene_topics.insert(lidar.topic);
+  for (const std::string& topic : truth_topics) {
+    if (!scene_topics.count(topic)) {
+      throw std::runtime_error("the truth bag has scans on " + topic + ", which scene '" +
+                               options.scene_path + "' has no lidar for: not this bag's scene?");
+    }
+  }
+  const rfm::sim::ClassGrid classes = rfm::sim::readClassGrid(options.map_dir);
+  return rfm::sim::CellConfusion::evaluate(
+      classes, rfm::sim::rasterizeSurfaces(scene.world, classes), options.tolerance);
+}
+
+// eval.json: the ray confusion matrix's object, with the class metrics under "cells".
+std::string evaluationJson(const rfm::sim::ConfusionMatrix& matrix,
+                           const std::optional<rfm::sim::CellConfusion>& cells) {
+  std::string json = matrix.toJson();
+  if (!cells) return json;
+  const std::size_t close = json.rfind('}');
+  return json.substr(0, close) + ",\"cells\": " + cells->toJson() + "\n}\n";
+}
+
 int evaluate(const std::string& truth_path, const std::string& labels_path,
-             const std::string& prefix) {
+             const std::string& prefix, const CellOptions& cell_options) {
   std::map<ScanKey, std::vector<std::uint8_t>> truth_by_scan;
+  std::set<std::string> truth_topics;
   std::size_t duplicate_truth = 0;
   {
     rosbag::Bag bag(truth_path, rosbag::bagmode::Read);
@@ -62,6 +111,7 @@ int evaluate(const std::string& truth_path, const std::string& labels_path,
       const auto truth = instance.instantiate<reflectance_field_map::RayTruth>();
       if (!truth) continue;
       const ScanKey key{truth->scan_topic, truth->header.stamp.toNSec()};
+      truth_topics.insert(truth->scan_topic);
       if (!truth_by_scan.emplace(key, truth->classes).second) ++duplicate_truth;
     }
   }
@@ -117,17 +167,23 @@ int evaluate(const std::string& truth_path, const std::string& labels_path,
             << " beams without an echo are not labelled NO_RETURN: are these labels from this "
                "truth bag?\n\n";
   }
-  const std::string markdown =
-      "# Ray classification\n\n" + summary.str() + matrix.toMarkdownTable();
+  std::string markdown = "# Ray classification\n\n" + summary.str() + matrix.toMarkdownTable();
+  std::optional<rfm::sim::CellConfusion> cells;
+  if (!cell_options.scene_path.empty()) {
+    cells = evaluateCells(cell_options, truth_topics);
+    markdown += "\n# Class metrics\n\nScene `" + cell_options.scene_path + "`, map `" +
+                cell_options.map_dir + "/classes.pgm`, tolerance " +
+                std::to_string(cell_options.tolerance) + " cell(s).\n\n" + cells->toMarkdown();
+  }
   std::cout << markdown;
   writeFile(prefix + ".md", markdown);
-  writeFile(prefix + ".json", matrix.toJson());
+  writeFile(prefix + ".json", evaluationJson(matrix, cells));
   std::cout << "\nwrote " << prefix << ".md and " << prefix << ".json\n";
   return 0;
 }
 
 int report(const std::string& manifest_path, const std::string& out_path,
-           const std::string& preamble_path) {
+           const std::string& preamble_path, const std::string& title) {
   std::vector<rfm::sim::EvaluationEntry> entries;
   std::istringstream manifest(readFile(manifest_path));
   std::string line;
@@ -140,10 +196,19 @@ int report(const std::string& manifest_path, const std::string& out_path,
     std::string json_path;
     if (!(fields >> entry.config >> entry.scene >> json_path)) {
       throw std::runtime_error(manifest_path + ":" + std::to_string(line_number) +
-                               ": expected 'config scene path/eval.json'");
+                               ": expected 'config scene path/eval.json [setup split]'");
+    }
+    if ((fields >> entry.setup) && !(fields >> entry.split)) {
+      throw std::runtime_error(manifest_path + ":" + std::to_string(line_number) +
+                               ": a setup needs its seed split after it");
     }
     try {
-      entry.matrix = rfm::sim::ConfusionMatrix::fromJson(readFile(json_path));
+      const std::string json = readFile(json_path);
+      entry.matrix = rfm::sim::ConfusionMatrix::fromJson(json);
+      const YAML::Node cells = YAML::Load(json)["cells"];
+      if (cells) entry.cells = rfm::sim::CellConfusion::fromJson(YAML::Dump(cells));
+    } catch (const YAML::Exception& error) {
+      throw std::runtime_error(json_path + ": " + error.what());
     } catch (const std::exception& error) {
       throw std::runtime_error(json_path + ": " + error.what());
     }
@@ -151,7 +216,14 @@ int report(const std::string& manifest_path, const std::string& out_path,
   }
   if (entries.empty()) throw std::runtime_error(manifest_path + ": no entries");
   const std::string preamble = preamble_path.empty() ? "" : readFile(preamble_path);
-  writeFile(out_path, rfm::sim::buildEvaluationReport(entries, preamble));
+  const bool grouped = !entries.front().setup.empty();
+  for (const rfm::sim::EvaluationEntry& entry : entries) {
+    if (entry.setup.empty() == grouped) {
+      throw std::runtime_error(manifest_path + ": give a setup and split on every line or none");
+    }
+  }
+  writeFile(out_path, grouped ? rfm::sim::buildGroupedReport(entries, title, preamble)
+                              : rfm::sim::buildEvaluationReport(entries, preamble));
   std::cout << "rfm_eval: wrote " << out_path << " from " << entries.size() << " results\n";
   return 0;
 }
@@ -167,7 +239,8 @@ int main(int argc, char** argv) {
       return 0;
     }
     if ((arg == "--truth" || arg == "--labels" || arg == "--out" || arg == "--report" ||
-         arg == "--preamble") &&
+         arg == "--preamble" || arg == "--title" || arg == "--scene" || arg == "--map-dir" ||
+         arg == "--tolerance-cells") &&
         i + 1 < argc) {
       options[arg] = argv[++i];
     } else {
@@ -182,7 +255,10 @@ int main(int argc, char** argv) {
         std::cerr << "rfm_eval: --report needs --out REPORT.md\n";
         return 2;
       }
-      return report(options["--report"], options["--out"], options["--preamble"]);
+      const std::string title = options.count("--title")
+                                    ? options["--title"]
+                                    : "Random scenes: evaluation per sensor setup";
+      return report(options["--report"], options["--out"], options["--preamble"], title);
     }
     if (!options.count("--truth") || !options.count("--labels")) {
       std::cerr << "rfm_eval: --truth and --labels are required\n";
@@ -191,9 +267,30 @@ int main(int argc, char** argv) {
     }
     const std::string prefix =
         options.count("--out") ? options["--out"] : directoryOf(options["--labels"]) + "/eval";
-    return evaluate(options["--truth"], options["--labels"], prefix);
+    CellOptions cell_options;
+    cell_options.scene_path = options["--scene"];
+    cell_options.map_dir =
+        options.count("--map-dir") ? options["--map-dir"] : directoryOf(options["--labels"]);
+    if (options.count("--tolerance-cells")) {
+      const std::string& text = options["--tolerance-cells"];
+      if (text.empty() || text.size() > 2 ||
+          text.find_first_not_of("0123456789") != std::string::npos) {
+        std::cerr << "rfm_eval: --tolerance-cells must be an integer in [0, 99], got '" << text
+                  << "'\n";
+        return 2;
+      }
+      cell_options.tolerance = std::stoi(text);
+    }
+    if (cell_options.scene_path.empty() &&
+        (options.count("--map-dir") || options.count("--tolerance-cells"))) {
+      std::cerr << "rfm_eval: --map-dir and --tolerance-cells need --scene\n";
+      return 2;
+    }
+    return evaluate(options["--truth"], options["--labels"], prefix, cell_options);
   } catch (const rosbag::BagException& error) {
     std::cerr << "rfm_eval: " << error.what() << "\n";
+  } catch (const rfm::sim::SceneError& error) {
+    std::cerr << "rfm_eval: invalid scene: " << error.what() << "\n";
   } catch (const std::exception& error) {
     std::cerr << "rfm_eval: " << error.what() << "\n";
   }

@@ -21,6 +21,25 @@ geometry_msgs::Quaternion yawQuaternion(double yaw) {
   return q;
 }
 
+geometry_msgs::TransformStamped planarTransform(const ros::Time& stamp, const std::string& parent,
+                                                const std::string& child,
+                                                const rfm::sim::Pose2& pose) {
+  geometry_msgs::TransformStamped transform;
+  transform.header.stamp = stamp;
+  transform.header.frame_id = parent;
+  transform.child_frame_id = child;
+  transform.transform.translation.x = pose.x;
+  transform.transform.translation.y = pose.y;
+  transform.transform.translation.z = 0.0;
+  transform.transform.rotation = yawQuaternion(pose.yaw);
+  return transform;
+}
+
+rfm::sim::Pose2 inverse(const rfm::sim::Pose2& pose) {
+  const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
+  return {-(c * pose.x + s * pose.y), s * pose.x - c * pose.y, -pose.yaw};
+}
+
 }  // namespace
 
 SimBagWriter::SimBagWriter(rosbag::Bag& bag, const rfm::sim::Scene& scene, BagWriterOptions options)
@@ -53,18 +72,18 @@ void SimBagWriter::writeStaticTransforms() {
   bag_.write("/tf_static", stamp, message, header);
 }
 
-void SimBagWriter::onRobotState(double time, const rfm::sim::RobotState& state) {
+void SimBagWriter::onRobotState(double time, const rfm::sim::RobotState& truth,
+                                const rfm::sim::Pose2& odometry) {
   const ros::Time stamp(options_.time_origin + time);
-  geometry_msgs::TransformStamped transform;
-  transform.header.stamp = stamp;
-  transform.header.frame_id = options_.odom_frame;
-  transform.child_frame_id = options_.base_frame;
-  transform.transform.translation.x = state.pose.x;
-  transform.transform.translation.y = state.pose.y;
-  transform.transform.translation.z = 0.0;
-  transform.transform.rotation = yawQuaternion(state.pose.yaw);
   tf2_msgs::TFMessage tf_message;
-  tf_message.transforms.push_back(transform);
+  tf_message.transforms.push_back(
+      planarTransform(stamp, options_.odom_frame, options_.base_frame, odometry));
+  if (scene_.odometry.enabled) {
+    // map -> odom = truth * odometry^-1, so that map -> base_link is the true pose.
+    const rfm::sim::Pose2 inverse_odometry = inverse(odometry);
+    tf_message.transforms.push_back(planarTransform(stamp, options_.map_frame, options_.odom_frame,
+                                                    truth.pose.compose(inverse_odometry)));
+  }
   bag_.write("/tf", stamp, tf_message);
 
   if (time + 1e-9 < next_odom_time_) return;
@@ -73,12 +92,12 @@ void SimBagWriter::onRobotState(double time, const rfm::sim::RobotState& state) 
   odom.header.stamp = stamp;
   odom.header.frame_id = options_.odom_frame;
   odom.child_frame_id = options_.base_frame;
-  odom.pose.pose.position.x = state.pose.x;
-  odom.pose.pose.position.y = state.pose.y;
-  odom.pose.pose.orientation = yawQuaternion(state.pose.yaw);
-  odom.twist.twist.linear.x = state.linear_velocity;
-  odom.twist.twist.angular.z = state.angular_velocity;
-  // Perfect odometry: tiny but non-zero covariances keep consumers' matrix code well-defined.
+  odom.pose.pose.position.x = odometry.x;
+  odom.pose.pose.position.y = odometry.y;
+  odom.pose.pose.orientation = yawQuaternion(odometry.yaw);
+  odom.twist.twist.linear.x = truth.linear_velocity;
+  odom.twist.twist.angular.z = truth.angular_velocity;
+  // Tiny but non-zero covariances keep consumers' matrix code well-defined.
   for (const int i : {0, 7, 14, 21, 28, 35}) {
     odom.pose.covariance[i] = 1e-6;
     odom.twist.covariance[i] = 1e-6;
@@ -94,7 +113,7 @@ void SimBagWriter::onScan(const rfm::sim::SimScan& scan, const rfm::sim::LidarSp
   message.angle_min = static_cast<float>(lidar.angle_min);
   message.angle_max = static_cast<float>(lidar.angleMax());
   message.angle_increment = static_cast<float>(lidar.angle_increment);
-  message.time_increment = 0.0f;  // all beams of a simulated scan are taken at its stamp
+  message.time_increment = static_cast<float>(lidar.timeIncrement());  // 0: all at the stamp
   message.scan_time = static_cast<float>(1.0 / lidar.rate_hz);
   message.range_min = static_cast<float>(lidar.range_min);
   message.range_max = static_cast<float>(lidar.range_max);

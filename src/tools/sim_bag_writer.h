@@ -14,6 +14,8 @@ struct BagWriterOptions {
   double odom_rate_hz = 50.0;
   std::string odom_frame = "odom";
   std::string base_frame = "base_link";
+  // With odometry drift, the true localisation map -> odom is on /tf too (a perfect localiser).
+  std::string map_frame = "map";
   std::string truth_topic = "/sim/ray_truth";
 };
 
@@ -23,7 +25,8 @@ class SimBagWriter : public rfm::sim::SimulationSink {
  public:
   SimBagWriter(rosbag::Bag& bag, const rfm::sim::Scene& scene, BagWriterOptions options);
 
-  void onRobotState(double time, const rfm::sim::RobotState& state) override;
+  void onRobotState(double time, const rfm::sim::RobotState& truth,
+                    const rfm::sim::Pose2& odometry) override;
   void onScan(const rfm::sim::SimScan& scan, const rfm::sim::LidarSpec& lidar) override;
 
  private:

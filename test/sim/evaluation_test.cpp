@@ -72,8 +72,9 @@ TEST(EvaluationReportTest, AggregatesRayWeightedAcrossScenes) {
   small.addScan({2, 2}, {3, 3});           // glass 0 % kept on 2 rays
   large.addScan({2, 2, 2, 2, 2, 2, 2, 2},  // glass 100 % kept on 8 rays
                 {1, 1, 1, 1, 1, 1, 1, 1});
-  const std::vector<EvaluationEntry> entries = {
-      {"full", "scene_a", small}, {"full", "scene_b", large}, {"baseline", "scene_a", small}};
+  const std::vector<EvaluationEntry> entries = {{"full", "scene_a", small, {}, "", ""},
+                                                {"full", "scene_b", large, {}, "", ""},
+                                                {"baseline", "scene_a", small, {}, "", ""}};
   const std::string report = buildEvaluationReport(entries, "Reproduce: `run it`\n");
   EXPECT_NE(report.find("Reproduce: `run it`"), std::string::npos);
   // Ray-weighted: 8 of 10 glass rays kept = 80.0 %, not the 50 % mean of the per-scene rates.
@@ -81,6 +82,45 @@ TEST(EvaluationReportTest, AggregatesRayWeightedAcrossScenes) {
   EXPECT_NE(report.find("| baseline | - | 0.0 |"), std::string::npos) << report;
   EXPECT_LT(report.find("### full"), report.find("### baseline"));  // first-seen order
   EXPECT_NE(report.find("| scene_b | full |"), std::string::npos);
+  EXPECT_EQ(report.find("Class metrics"), std::string::npos);  // no entry has cells
+}
+
+// Cells of a 1 m grid drawn glass over a glass pane along y = 0.5, x in [0, width).
+CellConfusion glassCells(int width, int drawn_glass) {
+  ClassGrid grid;
+  grid.width = width;
+  grid.height = 1;
+  grid.resolution = 1.0;
+  grid.cells.assign(width, 1);  // free
+  for (int x = 0; x < drawn_glass; ++x)
+    grid.cells[x] = 3;
+  World world;
+  world.addSegment({0.2, 0.5}, {width - 0.2, 0.5}, Material::kGlass);
+  return CellConfusion::evaluate(grid, rasterizeSurfaces(world, grid), 0);
+}
+
+TEST(EvaluationReportTest, GroupsBySetupAndSplitAndSumsCells) {
+  ConfusionMatrix rays;
+  rays.addScan({2, 2, 2, 2}, {1, 1, 1, 3});  // glass 75 % kept
+  std::vector<EvaluationEntry> entries = {
+      {"RFM", "1001", rays, glassCells(4, 1), "sick180", "checking"},
+      {"RFM", "1002", rays, glassCells(4, 3), "sick180", "checking"},
+      {"RFM", "7", rays, glassCells(2, 2), "sick180", "tuning"},
+      {"plain_grid", "1001", rays, glassCells(4, 0), "sick180", "checking"},
+      {"RFM", "1001", rays, std::nullopt, "wheelchair", "checking"}};
+  const std::string report = buildGroupedReport(entries, "Random scenes", "The split.\n");
+  EXPECT_EQ(report.find("# Random scenes\n\nThe split."), 0u) << report;
+  // Cell-weighted: 4 of 8 checking glass cells drawn glass.
+  EXPECT_NE(report.find("| sick180 | checking (2) | RFM | - | 75.00 | - | - | - | 100.0 | 50.0 |"),
+            std::string::npos)
+      << report;
+  EXPECT_NE(report.find("| sick180 | tuning (1) | RFM |"), std::string::npos);
+  EXPECT_NE(report.find("| sick180 | checking (1) | plain_grid |"), std::string::npos);
+  EXPECT_NE(report.find("| wheelchair | checking (1) | RFM | - | 75.00 | - | - | - | - |"),
+            std::string::npos)
+      << report;
+  EXPECT_LT(report.find("## sick180"), report.find("## wheelchair"));
+  EXPECT_NE(report.find("| 7 | tuning | RFM |"), std::string::npos);
 }
 
 }  // namespace

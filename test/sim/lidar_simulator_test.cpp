@@ -127,7 +127,7 @@ robot:
 )";
 
 struct CollectingSink : SimulationSink {
-  void onRobotState(double time, const RobotState& state) override {
+  void onRobotState(double time, const RobotState& state, const Pose2&) override {
     state_times.push_back(time);
     states.push_back(state);
   }

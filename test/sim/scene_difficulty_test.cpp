@@ -59,7 +59,7 @@ class ReferenceOccupancyGrid {
 };
 
 struct Recorder : SimulationSink {
-  void onRobotState(double time, const RobotState& state) override {
+  void onRobotState(double time, const RobotState& state, const Pose2&) override {
     states.emplace_back(time, state);
   }
   void onScan(const SimScan& scan, const LidarSpec&) override { scans.push_back(scan); }

@@ -4,6 +4,8 @@
 #include <dirent.h>
 
 #include <algorithm>
+#include <cmath>
+#include <set>
 
 #include "reflectance_field_map/sim/scene.h"
 
@@ -139,6 +141,127 @@ TEST(SceneParseTest, ErrorsNameTheBadField) {
             "people[0].waypoints[1]");
   EXPECT_EQ(errorField("[[0, 1], [2, 1, 3.0]]", "[[0, 0.2], [2, 1, 3.0]]"),
             "people[0].waypoints[0]");
+}
+
+TEST(SceneFilesTest, ShippedScenesUseTheIdealModelOnly) {
+  // Their bags are hashed to check refactors: the realistic physics, drift and logger (drawn
+  // from streams of their own) stay off, so they simulate exactly as they always did.
+  for (const std::string& file : shippedScenes()) {
+    const Scene scene = loadScene(std::string(RFM_SCENE_DIR) + "/" + file);
+    EXPECT_FALSE(scene.physics.enabled) << file;
+    EXPECT_FALSE(scene.odometry.enabled) << file;
+    EXPECT_FALSE(scene.logger.enabled()) << file;
+    for (const LidarSpec& lidar : scene.lidars)
+      EXPECT_FALSE(lidar.sweep) << file;
+  }
+}
+
+TEST(SensorSetupsTest, SpanTheSensorsOfIssue35) {
+  std::set<std::string> names;
+  std::set<int> fields_of_view, lidar_counts;
+  for (const SensorSetup& setup : sensorSetups()) {
+    SCOPED_TRACE(setup.name);
+    EXPECT_TRUE(names.insert(setup.name).second);
+    lidar_counts.insert(static_cast<int>(setup.lidars.size()));
+    for (const LidarSpec& lidar : setup.lidars) {
+      EXPECT_NO_THROW(lidar.validate());
+      const double step = lidar.angle_increment * 180.0 / M_PI;
+      fields_of_view.insert(static_cast<int>(std::lround(lidar.beam_count * step / 90.0)) * 90);
+      EXPECT_GE(step, 0.25 - 1e-9);
+      EXPECT_LE(step, 1.0 + 1e-9);
+      EXPECT_GE(lidar.rate_hz, 5.0);
+      EXPECT_LE(lidar.rate_hz, 40.0);
+      EXPECT_GE(lidar.range_max, 5.6 - 1e-9);
+      EXPECT_LE(lidar.range_max, 80.0);
+    }
+  }
+  EXPECT_EQ(sensorSetups().front().name, "wheelchair");
+  EXPECT_EQ(fields_of_view, (std::set<int>{180, 270, 360}));
+  EXPECT_EQ(lidar_counts, (std::set<int>{1, 2}));
+  EXPECT_THROW(sensorSetup("kinect"), std::invalid_argument);
+  // The default setup is the scenes' default: the same lidars, value for value.
+  const std::vector<LidarSpec> wheelchair = sensorSetup("wheelchair").lidars;
+  const std::vector<LidarSpec> scene_default = parseScene(kValidScene).lidars;
+  ASSERT_EQ(wheelchair.size(), 2u);
+  EXPECT_EQ(wheelchair[1].topic, "/scan_rear");
+  EXPECT_DOUBLE_EQ(wheelchair[1].time_offset, 0.0125);
+  EXPECT_DOUBLE_EQ(wheelchair[0].angle_min, defaultWheelchairLidars()[0].angle_min);
+  EXPECT_DOUBLE_EQ(scene_default[0].angle_increment, wheelchair[0].angle_increment);
+}
+
+TEST(SceneParseTest, ReadsSetupsLidarsPhysicsOdometryAndLogger) {
+  const Scene setup = parseScene(R"(
+name: s
+duration: 5
+setup: carmen_sparse
+walls: [{type: segment, material: diffuse, points: [[0, 0], [1, 0]]}]
+robot: {waypoints: [[0, 1]]}
+)");
+  ASSERT_EQ(setup.lidars.size(), 1u);
+  EXPECT_EQ(setup.lidars[0].beam_count, 361);
+  EXPECT_DOUBLE_EQ(setup.logger.keep_every_deg, 30.0);  // the setup's logger
+  EXPECT_FALSE(setup.physics.enabled);
+  EXPECT_FALSE(setup.odometry.enabled);
+
+  const Scene custom = parseScene(R"(
+name: c
+duration: 5
+physics: {return_cone_deg: 1.5, metal_lobe_deg: 9}
+odometry:
+logger: {keep_every_m: 0.5}
+lidars:
+  - {topic: /scan, frame_id: laser, mount: [0.2, 0, 0.3, 180], beam_count: 181,
+     angle_min_deg: -90, angle_increment_deg: 1, rate_hz: 5, range_max: 80, sweep: true,
+     mirror_hz: 75, mount_pitch_deg: 0.5}
+walls:
+  - {type: segment, material: glass, points: [[0, 0], [4, 0]], dirt: 0.01, tilt_deg: -0.3}
+people:
+  - {radius: 0.4, legs: true, leg_radius: 0.07, waypoints: [[0, 2], [3, 2]]}
+robot: {waypoints: [[0, 1]]}
+)");
+  EXPECT_TRUE(custom.physics.enabled);
+  EXPECT_DOUBLE_EQ(custom.physics.return_cone_deg, 1.5);
+  EXPECT_DOUBLE_EQ(custom.physics.metal_lobe_deg, 9.0);
+  EXPECT_TRUE(custom.odometry.enabled);  // `odometry:` alone: the default drift
+  EXPECT_DOUBLE_EQ(custom.odometry.xy_noise, OdometryDrift().xy_noise);
+  EXPECT_DOUBLE_EQ(custom.logger.keep_every_m, 0.5);
+  ASSERT_EQ(custom.lidars.size(), 1u);
+  EXPECT_NEAR(custom.lidars[0].mount_yaw, M_PI, 1e-12);
+  EXPECT_TRUE(custom.lidars[0].sweep);
+  EXPECT_NEAR(custom.lidars[0].timeIncrement(), 1.0 / (360.0 * 75.0), 1e-12);
+  EXPECT_NEAR(custom.lidars[0].mount_pitch, 0.5 * M_PI / 180.0, 1e-12);
+  const int glass = 2;  // frame, pane, frame
+  EXPECT_DOUBLE_EQ(custom.world.finish(glass - 1).dirt, 0.01);
+  EXPECT_NEAR(custom.world.finish(glass - 1).tilt, -0.3 * M_PI / 180.0, 1e-12);
+  EXPECT_TRUE(custom.people[0].legs);
+  EXPECT_DOUBLE_EQ(custom.people[0].leg_radius, 0.07);
+}
+
+TEST(SceneParseTest, RejectsContradictionsAndSettingsThatWouldDoNothing) {
+  EXPECT_EQ(errorField("sensors: {rate_hz: 20, range_noise_sigma: 0.01}",
+                       "setup: wheelchair\nlidars: [{topic: /scan, frame_id: laser}]"),
+            "lidars");
+  EXPECT_EQ(errorField("sensors: {rate_hz: 20, range_noise_sigma: 0.01}", "setup: kinect"),
+            "setup");
+  EXPECT_EQ(errorField("duration: 10", "duration: 10\nmaterials: {}\nphysics: {}"), "physics");
+  EXPECT_EQ(errorField("sensors: {rate_hz: 20, range_noise_sigma: 0.01}",
+                       "lidars: [{topic: /scan, frame_id: laser, sweep: true}]"),
+            "lidars[0]");
+  EXPECT_EQ(errorField("sensors: {rate_hz: 20, range_noise_sigma: 0.01}",
+                       "lidars: [{topic: /a, frame_id: l}, {topic: /a, frame_id: m}]"),
+            "lidars[1].topic");
+  EXPECT_EQ(errorField("sensors: {rate_hz: 20, range_noise_sigma: 0.01}",
+                       "lidars: [{topic: /a, frame_id: l, beam_count: 0}]"),
+            "lidars[0].beam_count");
+  EXPECT_EQ(errorField("duration: 10", "duration: 10\nphysics: {return_cone_deg: 50}"),
+            "physics.return_cone_deg");
+  EXPECT_EQ(errorField("duration: 10", "duration: 10\nodometry: {xy_noise: 2}"),
+            "odometry.xy_noise");
+  EXPECT_EQ(errorField("duration: 10", "duration: 10\nlogger: {keep_every: 1}"),
+            "logger.keep_every");
+  EXPECT_EQ(errorField("frame: 0.1,", "frame: 0.1, dirt: 2,"), "walls[0].dirt");
+  EXPECT_EQ(errorField("speed: 1.0, start_time: 1", "speed: 1.0, legs: true, start_time: 1"),
+            "people[0].radius");  // a 0.25 m footprint is too small for walking legs
 }
 
 TEST(SceneParseTest, SyntaxErrorsAndMissingFilesAreReported) {

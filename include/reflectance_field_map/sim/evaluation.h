@@ -5,8 +5,11 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "reflectance_field_map/sim/cell_evaluation.h"
 
 namespace rfm::sim {
 
@@ -71,12 +74,22 @@ struct EvaluationEntry {
   std::string config;  // e.g. "baseline", "basic", "motion", "full"
   std::string scene;
   ConfusionMatrix matrix;
+  std::optional<CellConfusion> cells;  // class metrics, when the scene's world was given
+  std::string setup;                   // grouped reports: the sensor setup, and the seeds' split
+  std::string split;                   // (tuning or checking)
 };
 
 // Markdown report: per-configuration confusion matrices summed (ray-weighted) over scenes, the
-// Table III-style ablation table and a per-scene breakdown. Configurations appear in the order of
-// their first entry; `preamble` is inserted verbatim after the title (how to reproduce, etc.).
+// Table III-style ablation table and a per-scene breakdown, and the class metrics summed
+// (cell-weighted) when entries have them. Configurations appear in the order of their first
+// entry; `preamble` is inserted verbatim after the title (how to reproduce, etc.).
 std::string buildEvaluationReport(const std::vector<EvaluationEntry>& entries,
                                   const std::string& preamble);
+
+// Markdown report of random scenes grouped by sensor setup and seed split: a summary of every
+// (setup, split, configuration) beside issue 35's targets, then per setup the summed confusion of
+// rays and of cells, and a row per scene.
+std::string buildGroupedReport(const std::vector<EvaluationEntry>& entries,
+                               const std::string& title, const std::string& preamble);
 
 }  // namespace rfm::sim

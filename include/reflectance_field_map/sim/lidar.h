@@ -26,12 +26,35 @@ struct LidarSpec {
   double time_offset = 0.0;  // first scan at scene time `time_offset`, then every 1 / rate_hz
   double range_noise_sigma = 0.012;
   double dropout_probability = 0.02;  // random missing echoes (dark spots, sensor misses)
+  double range_noise_per_m = 0.0;     // the noise's standard deviation grows this much per metre
+  // Read by the realistic sensor model only (scenes with a `physics` section): beams are taken one
+  // after another as the mirror turns (REP-117 time_increment), so the robot and people move
+  // during a scan; otherwise every beam is taken at the scan's stamp.
+  bool sweep = false;
+  double mirror_hz = 0.0;  // mirror revolutions per second (0: one per scan, rate_hz)
+  double mount_pitch = 0.0, mount_roll = 0.0;  // static tilt of the scan plane, rad
 
   double angleMax() const { return angle_min + (beam_count - 1) * angle_increment; }
+  // Time between two beams while sweeping (0 when the scan is taken at one instant).
+  double timeIncrement() const;
   double beamAngle(int beam) const { return angle_min + beam * angle_increment; }
   Pose2 mount() const { return {mount_x, mount_y, mount_yaw}; }
   // Throws std::invalid_argument naming the offending parameter.
   void validate() const;
+};
+
+// Chassis pitch and roll (rad) at an instant.
+struct Tilt {
+  double pitch = 0.0, roll = 0.0;
+};
+
+// What moves while a scan is taken: the robot (its true pose and chassis tilt) and the people.
+class MovingScene {
+ public:
+  virtual ~MovingScene() = default;
+  virtual Pose2 robotPose(double t) const = 0;
+  virtual Tilt chassisTilt(double t) const = 0;
+  virtual std::vector<Circle> people(double t) const = 0;
 };
 
 // One simulated scan: what the sensor reports and the truth behind every beam.
@@ -51,6 +74,12 @@ class LidarSensor {
   SimScan scan(const BeamTracer& tracer, const Pose2& robot_pose, double time,
                const std::vector<Circle>& people, double specular_window_rad,
                std::mt19937& rng) const;
+
+  // Simulates a scan with the realistic sensor model: RealisticPhysics, tilt-dependent elevation of
+  // every beam, range noise growing with range, and (with `sweep`) the robot and people moving
+  // between beams. The scan's stamp is its first beam's time.
+  SimScan scanRealistic(const BeamTracer& tracer, const MovingScene& motion, double time,
+                        std::mt19937& rng) const;
 
   const LidarSpec& spec() const { return spec_; }
 

@@ -9,7 +9,10 @@
 
 #include "reflectance_field_map/sim/beam_physics.h"
 #include "reflectance_field_map/sim/lidar.h"
+#include "reflectance_field_map/sim/odometry.h"
 #include "reflectance_field_map/sim/people.h"
+#include "reflectance_field_map/sim/scan_logger.h"
+#include "reflectance_field_map/sim/sensor_setups.h"
 #include "reflectance_field_map/sim/trajectory.h"
 #include "reflectance_field_map/sim/world.h"
 
@@ -22,15 +25,15 @@ struct Scene {
   std::uint32_t seed = 1;
   World world;
   MaterialModel materials;
+  RealisticPhysics physics;  // off unless the scene has a `physics` section
   std::vector<PersonSpec> people;
   TrajectorySpec robot;
   std::vector<LidarSpec> lidars;  // default: the wheelchair's front and rear UTM-30LX
+  OdometryDrift odometry;         // off unless the scene has an `odometry` section
+  ScanLoggerSpec logger;          // keeps every scan unless the scene or its setup thins them
   double tf_rate_hz = 100.0;
   double odom_rate_hz = 50.0;
 };
-
-// The two Hokuyo UTM-30LX of the paper's wheelchair; the rear one fires half a period later.
-std::vector<LidarSpec> defaultWheelchairLidars();
 
 // Error in a scene file. what() names the source and the offending field, e.g.
 // "atrium.yaml: walls[2].material: unknown material 'glas' (...)"; field() is "walls[2].material".

@@ -18,8 +18,9 @@ namespace rfm::sim {
 class SimulationSink {
  public:
   virtual ~SimulationSink() = default;
-  // Ground-truth robot state, at the scene's tf rate.
-  virtual void onRobotState(double time, const RobotState& state) = 0;
+  // The robot's true state and its odometry pose (equal to the true pose without drift), at the
+  // scene's tf rate.
+  virtual void onRobotState(double time, const RobotState& truth, const Pose2& odometry) = 0;
   // One scan of lidar `scan.lidar_index`.
   virtual void onScan(const SimScan& scan, const LidarSpec& lidar) = 0;
 };
@@ -28,8 +29,12 @@ class SimulationSink {
 struct SimulationSummary {
   std::size_t robot_states = 0;
   std::size_t scans = 0;
+  std::size_t scans_not_logged = 0;                       // taken but dropped by the scene's logger
   std::uint64_t beams_per_class[6] = {0, 0, 0, 0, 0, 0};  // indexed by BeamClass
   double path_length = 0.0;
+  // How far the odometry had drifted from the true pose by the end of the run.
+  double final_odometry_error_m = 0.0;
+  double final_odometry_error_deg = 0.0;
 };
 
 class Simulator {

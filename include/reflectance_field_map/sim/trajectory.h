@@ -1,5 +1,5 @@
 // The robot's ground-truth motion: a waypoint path driven at wheelchair speed, turning in place
-// toward each next waypoint. ROS-free.
+// toward each next waypoint and waiting at some. ROS-free.
 #pragma once
 
 #include <Eigen/Core>
@@ -24,6 +24,7 @@ struct RobotState {
 
 struct TrajectorySpec {
   std::vector<Eigen::Vector2d> waypoints;
+  std::vector<double> pauses;         // s standing at each waypoint on arrival (missing: none)
   double speed = 0.7;                 // m/s while driving
   double turn_rate = 0.8;             // rad/s while turning in place
   double start_delay = 0.0;           // stands still at the first waypoint for this long

@@ -14,6 +14,12 @@ enum class Material : std::uint8_t { kDiffuse, kGlass, kMirror, kMetal };
 
 const char* materialName(Material material);
 
+// How a surface departs from an ideal one (the realistic physics reads it; see RealisticPhysics).
+struct SurfaceFinish {
+  double dirt = 0.0;  // probability that dirt scatters a beam back at normal incidence (any angle)
+  double tilt = 0.0;  // out-of-plane lean of the surface's normal, rad (panes are not plumb)
+};
+
 // A person (or any moving diffuse disc) at the instant of a scan.
 struct Circle {
   Eigen::Vector2d center = Eigen::Vector2d::Zero();
@@ -36,19 +42,21 @@ struct Hit {
 class World {
  public:
   // Adds a single straight piece of one material.
-  void addSegment(const Eigen::Vector2d& a, const Eigen::Vector2d& b, Material material);
+  void addSegment(const Eigen::Vector2d& a, const Eigen::Vector2d& b, Material material,
+                  const SurfaceFinish& finish = {});
   // Adds a circular arc (centre, radius, angles in radians, counter-clockwise from start to end).
   void addArc(const Eigen::Vector2d& center, double radius, double start_angle, double end_angle,
-              Material material);
+              Material material, const SurfaceFinish& finish = {});
 
   // Adds a wall of `material` from a to b. For non-diffuse walls, `frame_length` metres at each end
   // and a mullion of the same length every `mullion_spacing` metres (0 = none) are diffuse.
   void addFramedSegment(const Eigen::Vector2d& a, const Eigen::Vector2d& b, Material material,
-                        double frame_length, double mullion_spacing);
+                        double frame_length, double mullion_spacing,
+                        const SurfaceFinish& finish = {});
   // Same for an arc; frame and mullion lengths are measured along the arc.
   void addFramedArc(const Eigen::Vector2d& center, double radius, double start_angle,
                     double end_angle, Material material, double frame_length,
-                    double mullion_spacing);
+                    double mullion_spacing, const SurfaceFinish& finish = {});
 
   // Nearest intersection of the ray origin + s * direction (direction unit length) with
   // s in (min_distance, max_distance], ignoring static surface `ignore_surface` (the one the ray
@@ -67,14 +75,18 @@ class World {
   struct SegmentPrimitive {
     Eigen::Vector2d a, b;
     Material material;
+    SurfaceFinish finish;
   };
   struct ArcPrimitive {
     Eigen::Vector2d center;
     double radius, start_angle, sweep;  // sweep > 0, counter-clockwise
     Material material;
+    SurfaceFinish finish;
   };
   const std::vector<SegmentPrimitive>& segments() const { return segments_; }
   const std::vector<ArcPrimitive>& arcs() const { return arcs_; }
+  // Finish of static surface `surface_id` (a Hit's surface_id; segments first, then arcs).
+  const SurfaceFinish& finish(int surface_id) const;
 
  private:
   std::vector<SegmentPrimitive> segments_;

@@ -1,0 +1,136 @@
+#!/usr/bin/env bash
+# Regenerates doc/random_evaluation.md: for each sensor setup, simulates procedural scenes
+# (rfm_sim --random SEED --setup SETUP), maps every bag with rfm_offline (the full RFM and the
+# plain occupancy grid, --baseline), scores the labels and the class map against the simulator's
+# truth and world with rfm_eval, and writes one report grouped by setup and seed split.
+#
+#   scripts/run_random_evaluation.sh                  # a few minutes: 2 checking seeds, 40 s each
+#   SEEDS="$(seq 1001 1020)" DURATION= scripts/run_random_evaluation.sh   # bigger
+#
+# Seeds are split in two, once and for all:
+#   tuning seeds   1-100      may be used to choose a rule or a number;
+#   checking seeds 1001-1100  are only ever reported, never used to choose anything.
+# Any other seed is reported as "other".
+#
+# Environment:
+#   SEEDS        seeds to simulate (default: 1001 1002)
+#   SETUPS       sensor setups (default: every name rfm_sim --list-setups prints)
+#   DURATION     seconds of each scene (default 40; empty: each seed draws 40-80 s)
+#   OUT          scratch directory for bags, maps and scores (default: /tmp/rfm_random_eval)
+#   REPORT       output file (default: doc/random_evaluation.md in the checkout)
+#   FIXED_FRAME  frame the maps are made in (default odom, as the node: with the odometry's
+#                drift; map: the true localisation every random scene's bag also holds)
+#   RFM_WS       catkin workspace with the built package (default: rfm_ws beside the checkout)
+#   RFM_OFFLINE  mapper command (default: "rosrun reflectance_field_map rfm_offline"), called as
+#                $RFM_OFFLINE --bag SIM.bag --out DIR --scan-topics /a[,/b] --fixed-frame F
+#                [--baseline]; it must
+#                write DIR/labels.bag, DIR/map.yaml and DIR/classes.pgm
+set -euo pipefail
+export PATH=/usr/bin:$PATH
+
+cd "$(dirname "${BASH_SOURCE[0]}")"
+REPO="$(git rev-parse --show-toplevel)"
+source "$REPO/scripts/workspace.sh"
+OUT="${OUT:-/tmp/rfm_random_eval}"
+REPORT="${REPORT:-$REPO/doc/random_evaluation.md}"
+SEEDS="${SEEDS:-1001 1002}"
+DURATION="${DURATION-40}"
+FIXED_FRAME="${FIXED_FRAME:-odom}"
+read -r -a OFFLINE <<< "${RFM_OFFLINE:-rosrun reflectance_field_map rfm_offline}"
+
+if [[ ! -f "$rfm_ws/devel/setup.bash" ]]; then
+  echo "run_random_evaluation.sh: $rfm_ws/devel/setup.bash not found; build the workspace or set" \
+    "RFM_WS" >&2
+  exit 1
+fi
+rfm_activate
+
+if [[ -z "${SETUPS:-}" ]]; then
+  SETUPS="$(rosrun reflectance_field_map rfm_sim --list-setups | sed -n 's/^\([a-z0-9_]*\): .*/\1/p' |
+    tr '\n' ' ')"
+fi
+
+split_of() {
+  if (($1 >= 1 && $1 <= 100)); then
+    echo tuning
+  elif (($1 >= 1001 && $1 <= 1100)); then
+    echo checking
+  else
+    echo other
+  fi
+}
+
+# Mapper configurations: name in the report -> rfm_offline flags.
+CONFIG_NAMES=(RFM plain_grid)
+CONFIG_FLAGS=("" "--baseline")
+
+duration_flag=()
+[[ -n "$DURATION" ]] && duration_flag=(--duration "$DURATION")
+mkdir -p "$OUT"
+MANIFEST="$OUT/manifest.txt"
+SCENES="$OUT/scenes.md"
+: > "$MANIFEST"
+{
+  echo
+  echo "## Scenes"
+  echo
+  echo "| setup | seed | split | what rfm_sim drew | odometry drift at the end |"
+  echo "|---|---:|---|---|---|"
+} > "$SCENES"
+start=$(date +%s)
+
+for setup in $SETUPS; do
+  for seed in $SEEDS; do
+    split="$(split_of "$seed")"
+    dir="$OUT/$setup/$seed"
+    rm -rf "$dir" && mkdir -p "$dir"
+    echo "== $setup, seed $seed ($split): simulating"
+    rosrun reflectance_field_map rfm_sim --random "$seed" --setup "$setup" ${duration_flag[@]+"${duration_flag[@]}"} \
+      --out "$dir/sim.bag" --write-scene "$dir/scene.yaml" > "$dir/sim.log"
+    topics="$(sed -n 's/^  - {topic: \([^,]*\),.*/\1/p' "$dir/scene.yaml" | paste -sd, -)"
+    for i in "${!CONFIG_NAMES[@]}"; do
+      config="${CONFIG_NAMES[$i]}"
+      read -r -a flags <<< "${CONFIG_FLAGS[$i]}"
+      echo "== $setup, seed $seed: $config"
+      "${OFFLINE[@]}" --bag "$dir/sim.bag" --out "$dir/$config" --scan-topics "$topics" \
+        --fixed-frame "$FIXED_FRAME" \
+        ${flags[@]+"${flags[@]}"} \
+        > "$dir/$config.log" 2>&1 || { cat "$dir/$config.log" >&2; exit 1; }
+      rosrun reflectance_field_map rfm_eval --truth "$dir/sim.bag" --labels "$dir/$config/labels.bag" \
+        --scene "$dir/scene.yaml" --out "$dir/$config/eval" > "$dir/$config/eval.log"
+      echo "$config $seed $dir/$config/eval.json $setup $split" >> "$MANIFEST"
+    done
+    description="$(sed -n 's/^description: "\(.*\)"$/\1/p' "$dir/scene.yaml")"
+    drift="$(sed -n 's/^  odometry drifted \([0-9.e-]*\) m and \([0-9.e-]*\) deg.*/\1 m, \2 deg/p' "$dir/sim.log")"
+    [[ "$drift" == "0 m, 0 deg" ]] && drift="none (true poses)"
+    echo "| $setup | $seed | $split | ${description//|/\/} | $drift |" >> "$SCENES"
+  done
+done
+minutes=$(( ($(date +%s) - start + 59) / 60 ))
+
+PREAMBLE="$OUT/preamble.md"
+{
+  echo "Procedural scenes (\`rfm_sim --random SEED --setup SETUP\`, doc/simulator.md) mapped by"
+  echo "\`rfm_offline\` with its default parameters (RFM) and as a plain occupancy grid"
+  echo "(\`--baseline\`), in the \`$FIXED_FRAME\` frame, scored by \`rfm_eval\` (rays against"
+  echo "\`/sim/ray_truth\`; classes.pgm against the world of the scene file \`rfm_sim --write-scene\`"
+  echo "wrote, tolerance 1 cell). In \`odom\` the maps carry the odometry's drift (Scenes, below),"
+  echo "which the class metrics count as misplaced cells; \`FIXED_FRAME=map\` maps with true poses."
+  echo
+  echo "**Seed split.** Tuning seeds are 1-100: rules and numbers may be chosen on them. Checking"
+  echo "seeds are 1001-1100: they are only ever reported, never used to choose a rule or a number."
+  echo "Rows say which split their seeds belong to."
+  echo
+  # shellcheck disable=SC2086  # word splitting trims the lists
+  echo "This run: setups $(echo $SETUPS); seeds $(echo $SEEDS); ${DURATION:-40-80} s a scene."
+  echo "Generated $(date -u +%Y-%m-%d) from commit \`$(git -C "$REPO" rev-parse --short HEAD)\`"
+  echo "in about $minutes minute(s) on $(nproc) cores. Reproduce or enlarge it:"
+  echo
+  echo '    scripts/run_random_evaluation.sh   # SEEDS="1001 1002" SETUPS="..." DURATION=40 FIXED_FRAME=odom OUT=...'
+} > "$PREAMBLE"
+
+mkdir -p "$(dirname "$REPORT")"
+rosrun reflectance_field_map rfm_eval --report "$MANIFEST" --out "$REPORT" --preamble "$PREAMBLE" \
+  --title "Random scenes: evaluation per sensor setup"
+cat "$SCENES" >> "$REPORT"
+echo "== wrote $REPORT"
