@@ -1,10 +1,10 @@
 #pragma once
 
+#include "reflectance_field_map/RayLabels.h"
 #include "reflectance_field_map/core/cell_class.h"
 #include "reflectance_field_map/core/global_map.h"
 #include "reflectance_field_map/core/grid_geometry.h"
 #include "reflectance_field_map/core/laser_scan.h"
-#include "reflectance_field_map/RayLabels.h"
 
 #include <geometry_msgs/Quaternion.h>
 #include <geometry_msgs/Transform.h>
