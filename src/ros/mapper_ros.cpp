@@ -29,15 +29,9 @@ double elapsedMs(const std::chrono::steady_clock::time_point& start) {
       .count();
 }
 
-const char* failureName(tf2_ros::FilterFailureReason reason) {
-  switch (reason) {
-    case tf2_ros::filter_failure_reasons::OutTheBack:
-      return "older than the TF buffer";
-    case tf2_ros::filter_failure_reasons::EmptyFrameID:
-      return "empty frame_id";
-    default:
-      return "TF did not arrive before the queue overflowed";
-  }
+// tf2's words for a transform that can never come: the buffer has moved past the stamp.
+bool olderThanBuffer(const std::string& tf_error) {
+  return tf_error.find("extrapolation into the past") != std::string::npos;
 }
 
 }  // namespace
@@ -57,10 +51,9 @@ MapperRos::~MapperRos() {
   stats_timer_.stop();
   watchdog_timer_.stop();
   diagnostics_timer_.stop();
-  for (auto& input : inputs_) {
-    input->subscriber.unsubscribe();
-    input->tf_filter.reset();
-  }
+  tf_wait_timer_.stop();
+  for (auto& input : inputs_)
+    input->subscriber.shutdown();
 }
 
 std::string MapperRos::describeParameterError(const rfm::InvalidOption& error) {
@@ -109,17 +102,10 @@ void MapperRos::setRosInterfaces() {
     in.labels_pub =
         nh_.advertise<reflectance_field_map::RayLabels>("/rfm/" + in.leaf + "/labels", 10);
 
-    in.tf_filter =
-        std::make_unique<ScanFilter>(in.valid, *tf_buffer_, params_.fixed_frame, queue, nh_);
-    in.tf_filter->setTolerance(ros::Duration(params_.tf_tolerance));
-    in.tf_filter->registerCallback(
-        [this, &in](const sensor_msgs::LaserScanConstPtr& msg) { processScan(in, msg); });
-    in.tf_filter->registerFailureCallback(
-        [this, &in](const sensor_msgs::LaserScanConstPtr& msg,
-                    tf2_ros::FilterFailureReason reason) { tfFailure(in, msg, reason); });
-    in.subscriber.registerCallback(
-        [this, &in](const sensor_msgs::LaserScanConstPtr& msg) { incomingScan(in, msg); });
-    in.subscriber.subscribe(nh_, in.topic, std::max<uint32_t>(10, queue));
+    in.subscriber = nh_.subscribe<sensor_msgs::LaserScan>(
+        in.topic, std::max<uint32_t>(10, queue),
+        boost::function<void(const sensor_msgs::LaserScanConstPtr&)>(
+            [this, &in](const sensor_msgs::LaserScanConstPtr& msg) { incomingScan(in, msg); }));
     inputs_.push_back(std::move(input));
   }
 
@@ -140,6 +126,8 @@ void MapperRos::setRosInterfaces() {
                                  &MapperRos::statsTimer, this);
   // Wall timers keep running when simulated time stops or jumps.
   watchdog_timer_ = nh_.createWallTimer(ros::WallDuration(0.25), &MapperRos::watchdogTimer, this);
+  // Scans waiting for late transforms are looked at again this often.
+  tf_wait_timer_ = nh_.createWallTimer(ros::WallDuration(0.02), &MapperRos::tfWaitTimer, this);
 
   std::lock_guard<std::mutex> lock(mapper_mutex_);
   publishFullMapLocked();
@@ -192,7 +180,13 @@ void MapperRos::incomingScan(ScanInput& input, const sensor_msgs::LaserScanConst
   }
   const std::string problem = toLaserScan2D(*msg).validate();
   if (problem.empty() && !msg->header.frame_id.empty()) {
-    input.valid.add(msg);
+    input.waiting.push_back(msg);
+    if (input.waiting.size() > static_cast<size_t>(params_.tf_queue_size)) {
+      const sensor_msgs::LaserScanConstPtr oldest = input.waiting.front();
+      input.waiting.pop_front();
+      tfFailure(input, oldest, TfFailure::kQueueOverflow);
+    }
+    releaseWaiting(input);
     return;
   }
   dropScan(input, input.malformed, malformed_scans_);
@@ -208,10 +202,40 @@ void MapperRos::dropScan(ScanInput&, std::atomic<uint64_t>& reason_on_topic,
   ++scans_dropped_;
 }
 
+void MapperRos::releaseWaiting(ScanInput& input) {
+  // tf2_ros::MessageFilter can lose a scan whose transform arrives while it is being queued: the
+  // buffer is asked directly instead, in order, each time.
+  const ros::Duration tolerance(params_.tf_tolerance);
+  while (!input.waiting.empty()) {
+    const sensor_msgs::LaserScanConstPtr msg = input.waiting.front();
+    const std::string frame = normalizeFrame(msg->header.frame_id);
+    const ros::Time stamp = msg->header.stamp;
+    std::string error;
+    const bool ready =
+        tf_buffer_->canTransform(params_.fixed_frame, frame, stamp + tolerance, &error) &&
+        tf_buffer_->canTransform(params_.fixed_frame, params_.base_frame, stamp + tolerance,
+                                 &error) &&
+        tf_buffer_->canTransform(params_.fixed_frame, frame, stamp, &error) &&
+        tf_buffer_->canTransform(params_.fixed_frame, params_.base_frame, stamp, &error);
+    if (!ready && !olderThanBuffer(error)) return;  // its transform may still come
+    input.waiting.pop_front();
+    if (ready) {
+      processScan(input, msg);
+    } else {
+      tfFailure(input, msg, TfFailure::kOlderThanBuffer);
+    }
+  }
+}
+
+void MapperRos::tfWaitTimer(const ros::WallTimerEvent&) {
+  for (auto& input : inputs_)
+    releaseWaiting(*input);
+}
+
 void MapperRos::tfFailure(ScanInput& input, const sensor_msgs::LaserScanConstPtr& msg,
-                          tf2_ros::FilterFailureReason reason) {
+                          TfFailure reason) {
   dropScan(input, input.tf_failures, tf_failures_);
-  if (reason == tf2_ros::filter_failure_reasons::Unknown) ++queue_overflows_;
+  if (reason == TfFailure::kQueueOverflow) ++queue_overflows_;
   const std::string frame = normalizeFrame(msg->header.frame_id);
   // _frameExists is thread-safe (it locks the buffer).
   const bool known = !frame.empty() && tf_buffer_->_frameExists(frame);
@@ -222,7 +246,9 @@ void MapperRos::tfFailure(ScanInput& input, const sensor_msgs::LaserScanConstPtr
   } else {
     text << "no transform from '" << frame << "' to '" << params_.fixed_frame
          << "' at t=" << std::fixed << msg->header.stamp.toSec() << " for " << input.topic << " ("
-         << failureName(reason) << ")";
+         << (reason == TfFailure::kQueueOverflow ? "TF did not arrive before the queue overflowed"
+                                                 : "older than the TF buffer")
+         << ")";
   }
   {
     std::lock_guard<std::mutex> lock(counters_mutex_);
@@ -467,7 +493,10 @@ void MapperRos::resetAfterTimeJump(double seconds_back) {
       seconds_back);
   tf_buffer_->clear();  // static transforms survive a clear
   for (auto& input : inputs_) {
-    input->tf_filter->clear();
+    // Scans of the time before the jump can no longer be placed.
+    scans_dropped_ += input->waiting.size();
+    time_jump_drops_ += input->waiting.size();
+    input->waiting.clear();
     input->last_stamp = ros::Time();
     input->last_seq = 0;
     if (input->rate) input->rate->clear();
@@ -689,6 +718,7 @@ void MapperRos::diagnoseMapper(diagnostic_updater::DiagnosticStatusWrapper& stat
   status.add("Field memory (bytes)", stats.field_bytes);
   status.add("Archived memory (bytes)", stats.archived_bytes);
   status.add("Time jumps (total)", jumps);
+  status.add("Scans dropped at a time jump (total)", time_jump_drops_.load());
   status.add("Scans dropped at a pose jump (total)", pose_jumps);
   status.add("Scans dropped beyond the map extent limit (total)", beyond);
 }

@@ -9,16 +9,14 @@
 
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <diagnostic_updater/update_functions.h>
-#include <message_filters/pass_through.h>
-#include <message_filters/subscriber.h>
 #include <ros/ros.h>
 #include <sensor_msgs/LaserScan.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/buffer.h>
-#include <tf2_ros/message_filter.h>
 #include <tf2_ros/transform_listener.h>
 
 #include <atomic>
+#include <deque>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -58,15 +56,20 @@ class MapperRos {
   static std::string describeParameterError(const rfm::InvalidOption& error);
 
  private:
-  using ScanFilter = tf2_ros::MessageFilter<sensor_msgs::LaserScan>;
+  // Why a scan waiting for its transform was given up.
+  enum class TfFailure {
+    kOlderThanBuffer,  // the buffer no longer (or never) reaches back to its stamp
+    kQueueOverflow,    // tf_queue_size newer scans arrived before its transform did
+  };
 
   struct ScanInput {
     uint32_t id = 0;
     std::string topic;  // as configured (absolute or relative to the node's namespace)
     std::string leaf;   // last component: /rfm/<leaf>/filtered
-    message_filters::Subscriber<sensor_msgs::LaserScan> subscriber;
-    message_filters::PassThrough<sensor_msgs::LaserScan> valid;  // scans that passed validate()
-    std::unique_ptr<ScanFilter> tf_filter;
+    ros::Subscriber subscriber;
+    // Valid scans waiting, in order, until TF reaches their stamp (at most tf_queue_size). Only
+    // the node's callback thread touches it.
+    std::deque<sensor_msgs::LaserScanConstPtr> waiting;
     ros::Publisher filtered_pub;
     ros::Publisher labels_pub;
     double min_rate = 0.0, max_rate = 0.0;
@@ -82,18 +85,20 @@ class MapperRos {
   void setRosInterfaces();
   void setDiagnostics();
 
-  // Subscriber -> incomingScan (rate, time jumps, validation) -> PassThrough -> TF filter ->
-  // processScan; the TF filter reports scans it gives up on to tfFailure.
+  // Subscriber -> incomingScan (rate, time jumps, staleness, validation) -> waiting ->
+  // processScan once TF reaches the scan's stamp (releaseWaiting, on every scan and on a wall
+  // timer); a scan given up on goes to tfFailure.
   void incomingScan(ScanInput& input, const sensor_msgs::LaserScanConstPtr& msg);
+  void releaseWaiting(ScanInput& input);
   void processScan(ScanInput& input, const sensor_msgs::LaserScanConstPtr& msg);
-  void tfFailure(ScanInput& input, const sensor_msgs::LaserScanConstPtr& msg,
-                 tf2_ros::FilterFailureReason reason);
+  void tfFailure(ScanInput& input, const sensor_msgs::LaserScanConstPtr& msg, TfFailure reason);
 
   void motionRemovalTimer(const ros::TimerEvent& event);
   void mapTimer(const ros::TimerEvent& event);
   void markerTimer(const ros::TimerEvent& event);
   void statsTimer(const ros::TimerEvent& event);
   void watchdogTimer(const ros::WallTimerEvent& event);
+  void tfWaitTimer(const ros::WallTimerEvent& event);
   void diagnosticsTimer(const ros::WallTimerEvent& event);
 
   bool saveMap(reflectance_field_map::SaveMap::Request& request,
@@ -148,7 +153,7 @@ class MapperRos {
   ros::Publisher map_pub_, map_update_pub_, glass_pub_, motion_pub_, stats_pub_;
   ros::ServiceServer save_service_, load_service_, reset_service_;
   ros::Timer motion_timer_, map_timer_, marker_timer_, stats_timer_;
-  ros::WallTimer watchdog_timer_, diagnostics_timer_;
+  ros::WallTimer watchdog_timer_, diagnostics_timer_, tf_wait_timer_;
   std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
 
   // Counters (also written from the TF listener thread through tfFailure).
@@ -157,7 +162,7 @@ class MapperRos {
   std::string last_tf_error_;
   std::atomic<uint64_t> scans_dropped_{0}, tf_failures_{0}, queue_overflows_{0},
       malformed_scans_{0}, stale_scans_{0}, pose_jumps_{0}, beyond_extent_{0}, time_jumps_{0},
-      scans_processed_{0}, transport_drops_{0};
+      scans_processed_{0}, transport_drops_{0}, time_jump_drops_{0};
   uint64_t tf_failures_reported_ = 0, malformed_reported_ = 0, stale_reported_ = 0,
            pose_jumps_reported_ = 0, beyond_extent_reported_ = 0, time_jumps_reported_ = 0,
            transport_drops_reported_ = 0;
