@@ -82,16 +82,14 @@ pids+=($!)
 # 4. The replay.
 echo "== replaying $scans scans at rate $RATE (rfm_node pid $node_pid)"
 start=$(date +%s)
-rosbag play --clock --quiet -r "$RATE" "$long" > "$OUT/play.log" 2>&1
+rosbag play --clock --quiet --wait-for-subscribers -r "$RATE" "$long" > "$OUT/play.log" 2>&1
 echo "== replay done in $(( $(date +%s) - start )) s"
 
-# 5. Every scan processed or dropped, then the node's map saved.
-accounted() {
-  timeout 10 rostopic echo -n 1 /rfm/stats 2>/dev/null |
-    awk '/scans_processed/ {p = $2} /scans_dropped/ {d = $2} END {print p + d}'
-}
-for _ in $(seq 60); do [[ "$(accounted)" == "$scans" ]] && break; sleep 1; done
-rostopic echo -n 1 /rfm/stats > "$OUT/final_stats.txt"
+# 5. Every scan processed or dropped (the monitor's last sample), then the node's map saved.
+accounted() { tail -n 1 "$OUT/samples.csv" | awk -F, '{print $4 + $5}'; }
+for _ in $(seq 120); do [[ "$(accounted)" == "$scans" ]] && break; sleep 1; done
+# Memory is judged on the replay; saving builds the whole state in memory once more.
+cp "$OUT/samples.csv" "$OUT/samples_replay.csv"
 rosservice call /rfm/save_map "path: 'soak'" > "$OUT/save.log"
 cleanup
 pids=()
@@ -107,21 +105,17 @@ rosrun reflectance_field_map rfm_offline --bag "$long" --out "$OUT/offline" > "$
 import csv, json, sys
 out, summary_path, scans = sys.argv[1], sys.argv[2], int(sys.argv[3])
 summary = json.load(open(summary_path))
-rows = [{k: float(v) for k, v in row.items()} for row in csv.DictReader(open(out + "/samples.csv"))]
+rows = [{k: float(v) for k, v in row.items()}
+        for row in csv.DictReader(open(out + "/samples_replay.csv"))]
 warm_time = summary["start_s"] + summary["lap_s"]
 warm = next((r for r in rows if r["ros_time_s"] >= warm_time), rows[-1])
 end = rows[-1]
-stats = {}
-for line in open(out + "/final_stats.txt"):
-    if ":" in line:
-        key, value = line.split(":", 1)
-        stats[key.strip()] = value.strip()
 explored_kb = (end["explored_map_bytes"] - warm["explored_map_bytes"]) / 1024.0
 growth_kb = end["rss_kb"] - warm["rss_kb"]
 growth = 100.0 * (growth_kb - explored_kb) / warm["rss_kb"]
 agreement = json.load(open(out + "/agreement.json"))
-dropped = int(stats.get("scans_dropped", -1))
-processed = int(stats.get("scans_processed", -1))
+dropped = int(end["scans_dropped"])
+processed = int(end["scans_processed"])
 report = {
     "recording_s": summary["duration_s"], "laps": summary["laps"], "lap_s": summary["lap_s"],
     "scans_in_bag": scans, "scans_processed": processed, "scans_dropped": dropped,

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Samples a running rfm_node for the soak test: every PERIOD s of wall time, one CSV line with
-its resident memory (/proc/PID/status VmRSS), /rfm/stats (scans processed and dropped, field and
-archive bytes) and the explored map's memory from /diagnostics.
+its resident memory (/proc/PID/status VmRSS) and what its /diagnostics report (scans processed and
+dropped, field, archive and explored map bytes). Diagnostics run on wall time, so they keep coming
+when a replay's simulated clock has stopped.
 
   monitor.py --pid PID --out samples.csv [--period 10]
 
@@ -13,7 +14,6 @@ import time
 
 import rospy
 from diagnostic_msgs.msg import DiagnosticArray
-from reflectance_field_map.msg import RfmStats
 
 COLUMNS = ("wall_s", "ros_time_s", "rss_kb", "scans_processed", "scans_dropped", "field_bytes",
            "archived_bytes", "explored_map_bytes")
@@ -35,18 +35,18 @@ def main():
     args = parser.parse_args(rospy.myargv()[1:])
 
     rospy.init_node("rfm_soak_monitor", disable_signals=True)
-    latest = {"stats": None, "explored": 0}
-
-    def on_stats(msg):
-        latest["stats"] = msg
+    latest = {}
+    keys = {"Scans processed": "scans_processed", "Scans dropped (total)": "dropped",
+            "Scans lost in subscriber queues (total)": "lost",
+            "Field memory (bytes)": "field_bytes", "Archived memory (bytes)": "archived_bytes",
+            "Explored map memory (bytes)": "explored_map_bytes"}
 
     def on_diagnostics(msg):
         for status in msg.status:
             for kv in status.values:
-                if kv.key == "Explored map memory (bytes)":
-                    latest["explored"] = int(kv.value)
+                if kv.key in keys:
+                    latest[keys[kv.key]] = int(float(kv.value))
 
-    rospy.Subscriber("/rfm/stats", RfmStats, on_stats)
     rospy.Subscriber("/diagnostics", DiagnosticArray, on_diagnostics)
     stop = {"now": False}
     signal.signal(signal.SIGINT, lambda *_: stop.update(now=True))
@@ -59,12 +59,11 @@ def main():
                 rss = rss_kb(args.pid)
             except OSError:
                 break  # the node is gone
-            stats = latest["stats"]
-            if stats is not None:
+            if len(latest) == len(keys):
                 out.write("%.1f,%.3f,%d,%d,%d,%d,%d,%d\n" % (
-                    time.time() - start, rospy.get_time(), rss, stats.scans_processed,
-                    stats.scans_dropped, stats.field_bytes, stats.archived_bytes,
-                    latest["explored"]))
+                    time.time() - start, rospy.get_time(), rss, latest["scans_processed"],
+                    latest["dropped"] + latest["lost"], latest["field_bytes"],
+                    latest["archived_bytes"], latest["explored_map_bytes"]))
                 out.flush()
             deadline = time.time() + args.period
             while not stop["now"] and time.time() < deadline:

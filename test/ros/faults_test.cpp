@@ -11,6 +11,8 @@
 #include "reflectance_field_map/LoadMap.h"
 #include "reflectance_field_map/RfmStats.h"
 #include "reflectance_field_map/SaveMap.h"
+#include "reflectance_field_map/core/global_map.h"
+#include "reflectance_field_map/core/state_file.h"
 #include "room_world.h"
 
 #include <diagnostic_msgs/DiagnosticArray.h>
@@ -386,6 +388,48 @@ TEST(Faults, ACorruptedStateIsRefusedAndTheMapUntouched) {
   EXPECT_TRUE(intact.response.success) << intact.response.message;
   world->paused_ = false;
   EXPECT_TRUE(mapsOn());
+}
+
+// A state whose checksum is right but whose map spans 3.2 km (two tiles 1000 tiles apart: it
+// used to take the node's memory and abort it) is refused by max_map_extent before it replaces
+// anything.
+TEST(Faults, AStateBeyondTheMapExtentLimitIsRefused) {
+  ros::NodeHandle nh;
+  ros::ServiceClient load = nh.serviceClient<reflectance_field_map::LoadMap>("/rfm/load_map");
+  ASSERT_TRUE(load.waitForExistence(ros::Duration(10.0)));
+  std::string dir;
+  ASSERT_TRUE(nh.getParam("/rfm/map_directory", dir));
+  rfm::GlobalMap2D far_apart;
+  far_apart.set({0, 0}, rfm::CellClass::kStatic);
+  far_apart.set({1000 * far_apart.tileCells(), 0}, rfm::CellClass::kStatic);
+  std::ostringstream payload;
+  const uint32_t mapper_magic = 0x52464d53, field_magic = 0x52464d31;
+  payload.write(reinterpret_cast<const char*>(&mapper_magic), 4);
+  far_apart.write(payload);
+  const int32_t bins = 180, tile_cells = 16;
+  const double resolution = 0.05;
+  const uint64_t archived = 0;
+  payload.write(reinterpret_cast<const char*>(&field_magic), 4);
+  payload.write(reinterpret_cast<const char*>(&bins), 4);
+  payload.write(reinterpret_cast<const char*>(&tile_cells), 4);
+  payload.write(reinterpret_cast<const char*>(&resolution), 8);
+  payload.write(reinterpret_cast<const char*>(&archived), 8);
+  {
+    std::ofstream file(dir + "/far_apart.rfm", std::ios::binary);
+    rfm::writeStateFile(file, payload.str());
+  }
+  pauseAndSettle();
+  const int empty_maps = node->empty_maps;
+  reflectance_field_map::LoadMap far;
+  far.request.path = "far_apart";
+  ASSERT_TRUE(load.call(far));
+  EXPECT_FALSE(far.response.success);
+  EXPECT_NE(far.response.message.find("more than max_map_extent 400 m"), std::string::npos)
+      << far.response.message;
+  world->paused_ = false;
+  EXPECT_TRUE(mapsOn());
+  EXPECT_EQ(node->empty_maps, empty_maps);
+  EXPECT_LT(node->map.copy().info.width * node->map.copy().info.resolution, 60.0);
 }
 
 // ROS time jumps back 20 s (a bag looping with --clock): the map is reset, diagnostics say the

@@ -9,6 +9,7 @@
 #include "reflectance_field_map/SaveMap.h"
 #include "room_world.h"
 
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 
@@ -34,9 +35,10 @@ using rfm_test::RoomWorld;
 using rfm_test::waitFor;
 
 // Starts rfm_node as /rfm with its maps under `dir`, its output in dir/node_N.log; -1 on failure.
-pid_t startNode(const std::string& dir, int run) {
+pid_t startNode(const std::string& dir, int run, const std::string& extra = "") {
   std::vector<std::string> args = {RFM_NODE_BINARY, "__name:=rfm", "_map_directory:=" + dir,
                                    "__log:=" + dir + "/ros_" + std::to_string(run) + ".log"};
+  if (!extra.empty()) args.push_back(extra);
   std::vector<char*> argv;
   for (std::string& arg : args)
     argv.push_back(arg.data());
@@ -150,6 +152,64 @@ TEST(Restart, AKilledNodeResumesFromItsSavedMap) {
   EXPECT_TRUE(walls());
   world.stop();
   kill(node, SIGINT);
+  EXPECT_EQ(waitpid(node, &status, 0), node);
+  if (!HasFailure()) std::filesystem::remove_all(dir);
+}
+
+TEST(ExtentLimit, AMapAtItsLimitDropsScansAndSaysSo) {
+  char dir_template[] = "/tmp/rfm_extent_test_XXXXXX";
+  ASSERT_NE(mkdtemp(dir_template), nullptr);
+  const std::string dir = dir_template;
+  constexpr double kLimit = 30.0;  // the active region alone spans 29.6 m, with its tiles
+
+  ros::NodeHandle nh;
+  MapCopy map;
+  std::mutex mutex;
+  bool reported = false;
+  uint64_t beyond = 0;
+  std::string extent;
+  ros::AsyncSpinner spinner(2);
+  auto on_diagnostics = [&](const diagnostic_msgs::DiagnosticArrayConstPtr& msg) {
+    std::lock_guard<std::mutex> lock(mutex);
+    for (const auto& status : msg->status) {
+      if (status.message.find("map extent limit reached") != std::string::npos &&
+          status.level == diagnostic_msgs::DiagnosticStatus::ERROR) {
+        reported = true;
+      }
+      for (const auto& kv : status.values) {
+        if (kv.key == "Scans dropped beyond the map extent limit (total)")
+          beyond = std::strtoull(kv.value.c_str(), nullptr, 10);
+        if (kv.key == "Map extent (m)") extent = kv.value;
+      }
+    }
+  };
+  std::vector<ros::Subscriber> subs = {
+      nh.subscribe("/rfm/map", 5, &MapCopy::onMap, &map),
+      nh.subscribe("/rfm/map_updates", 50, &MapCopy::onUpdate, &map),
+      nh.subscribe<diagnostic_msgs::DiagnosticArray>("/diagnostics", 20, on_diagnostics)};
+  spinner.start();
+  RoomWorld world(nh);
+  // Out of the room to x = 8 and back to -8: the map the drive could make reaches 30 m on the
+  // way back, at x = -2.4.
+  world.half_range_ = 8.0;
+  const pid_t node = startNode(dir, 1, "_max_map_extent:=" + std::to_string(kLimit));
+  ASSERT_GT(node, 0);
+  ASSERT_TRUE(waitFor([&] { return world.connected(); }, 30.0)) << "see " << dir << "/node_1.log";
+  world.start();
+  EXPECT_TRUE(waitFor(
+      [&] {
+        std::lock_guard<std::mutex> lock(mutex);
+        return reported && beyond > 0;
+      },
+      90.0))
+      << "no extent limit reported; map extent " << extent;
+  const nav_msgs::OccupancyGrid grid = map.copy();
+  EXPECT_GT(grid.info.width, 0u);
+  EXPECT_LE(grid.info.width * grid.info.resolution, kLimit + 1e-3);
+  EXPECT_LE(grid.info.height * grid.info.resolution, kLimit + 1e-3);
+  world.stop();
+  kill(node, SIGINT);
+  int status = 0;
   EXPECT_EQ(waitpid(node, &status, 0), node);
   if (!HasFailure()) std::filesystem::remove_all(dir);
 }

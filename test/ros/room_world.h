@@ -1,8 +1,8 @@
 // A robot with two lidars (front and rear, 360 beams each over 180 degrees) driving back and
-// forth along y = 0 in a 12 m x 8 m room, published live to the node: odometry as TF odom ->
-// base_link, the lasers in /tf_static, one scan per lidar per tick, stamped with ROS time (the
-// test's /clock under simulated time). What a fault test needs to change is a switch:
-// transforms late or missing, a lidar silent, the odometry jumped, the whole world paused.
+// forth along y = 0 in a 12 m x 8 m room (or out of it, far enough), published live to the node:
+// odometry as TF odom -> base_link, the lasers in /tf_static, one scan per lidar per tick, stamped
+// with ROS time (the test's /clock under simulated time). What a fault test needs to change is a
+// switch: transforms late or missing, a lidar silent, the odometry jumped, the whole world paused.
 #pragma once
 
 #include <ros/ros.h>
@@ -99,6 +99,7 @@ class RoomWorld {
   std::atomic<bool> tf_missing_{false};   // odometry not published at all
   std::atomic<double> tf_delay_{0.0};     // s, odometry published this late
   std::atomic<double> odom_jump_x_{0.0};  // m, added to the odometry (a TF glitch)
+  std::atomic<double> half_range_{3.0};   // m, the drive turns at x = +-half_range_
 
   // Scans published so far (both lidars, every kind), and those with the odometry jumped.
   uint64_t published() const { return published_; }
@@ -135,9 +136,9 @@ class RoomWorld {
     const double dt =
         last_stamp_.isZero() ? 0.0 : std::clamp((now - last_stamp_).toSec(), 0.0, 0.1);
     last_stamp_ = now;
-    // Back and forth between x = -3 and 3 at 0.5 m/s.
+    // Back and forth between x = -half_range_ and half_range_ at 0.5 m/s.
     x_ += direction_ * 0.5 * dt;
-    if (std::fabs(x_) > 3.0) direction_ = -direction_;
+    if (std::fabs(x_) > half_range_) direction_ = x_ > 0.0 ? -1.0 : 1.0;
     const double jump = odom_jump_x_;
     if (jump != 0.0) jumped_scans_ += rear_silent_ ? 1 : 2;
     if (!tf_missing_) pending_tf_.emplace_back(now, x_ + jump);
