@@ -68,7 +68,7 @@ done
 
 PREAMBLE="$OUT/preamble.md"
 {
-  echo "Reproduce (3 minutes for the eight scenes on 2 cores in session 10):"
+  echo "Reproduce:"
   echo
   echo '    scripts/run_evaluation.sh      # RFM_WS=<catkin ws> OUT=/tmp/rfm_eval'
   echo

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Measures rfm_offline's throughput (the full RFM, as issue 5 asks: bag reading and label writing
+# Measures rfm_offline's throughput (the full RFM, whole runs: bag reading and label writing
 # included) on every shipped scene. Runs the scenes round-robin ROUNDS times, so that a slow
 # minute of a shared machine spreads over all of them, and prints each scene's median, fastest
 # and slowest real-time factor (timing.real_time_factor of summary.json) as a markdown table.

@@ -2,8 +2,8 @@
 
 #include "reflectance_field_map/core/parallel_runner.h"
 #include "reflectance_field_map/core/plain_occupancy_grid.h"
-#include "reflectance_field_map/core/ray_classification.h"
 #include "reflectance_field_map/core/ray_insertion.h"
+#include "reflectance_field_map/core/ray_labels.h"
 
 #include <algorithm>
 #include <chrono>

@@ -121,7 +121,7 @@ void MotionRemover::unite(uint32_t a, uint32_t b) {
   if (rank_[a] < rank_[b]) std::swap(a, b);
   parent_[b] = a;
   anchored_[a] |= anchored_[b];
-  if (tracksExtents()) {
+  if (anchors_.tracksExtents()) {
     persistent_[a] |= persistent_[b];
     opaque_[a] |= opaque_[b];
     Extent& e = extent_[a];
@@ -166,7 +166,8 @@ void MotionRemover::uniteNeighbour(size_t local, size_t n_local, int bins) {
   }
 }
 
-void MotionRemover::joinBand(const ReflectanceField& field, const CellBox& box, const Band& band,
+void MotionRemover::joinBand(const ReflectanceField& field, const AnchorHistory& history,
+                             const CellBox& box, const Band& band,
                              const std::function<CellClass(const CellIndex&)>& outside) {
   const int bins = field.geometry().thetaBins();
   const int width = box.width();
@@ -187,28 +188,15 @@ void MotionRemover::joinBand(const ReflectanceField& field, const CellBox& box, 
       for (uint32_t r = first; r < last; ++r)
         reflective += runs_[r].length;
       const int slot = slots_[local];
-      const bool visible = widelyVisible(field, slot, reflective);
-      const bool confirmed = anchors_.persistence_ticks > 0 &&
-                             field.confirmedTicksAt(slot) >= anchors_.persistence_ticks;
-      // Only a would-be anchor needs its history read.
-      const bool departed = (visible || confirmed) &&
-                            ((anchors_.departure_min_bins > 0 &&
-                              field.contradictedBinsAt(slot) >= anchors_.departure_min_bins) ||
-                             (anchors_.departure_vacant_ticks > 0 &&
-                              field.vacantTicksAt(slot) >= anchors_.departure_vacant_ticks));
-      // Evidence confirmed for long anchors until the robot looks through it from where it
-      // saw it solid.
-      const bool abandoned = confirmed && anchors_.departure_vacant_ticks > 0 &&
-                             field.abandonedTicksAt(slot) >= anchors_.departure_vacant_ticks;
-      const bool anchor = visible && !departed;
+      const CellAnchoring anchoring =
+          anchors_.judge(field, history, slot, reflective, widelyVisible(field, slot, reflective));
+      const bool anchor = anchoring.anchor, persistent = anchoring.persistent;
+      const bool opaque = anchoring.opaque;
       widely_visible_[local] = anchor;
-      const bool persistent = confirmed && !departed && !abandoned;
-      const bool opaque = anchors_.opaque_min_bins > 0 && reflective >= anchors_.opaque_min_bins &&
-                          field.missedBinsAt(slot) == 0;
       bool seeded = anchor || (persistent && anchors_.persistence_min_cells == 0) ||
                     (opaque && anchors_.opaque_min_cells == 0);
       // The rules with a minimum length anchor once the component proves long enough.
-      if (tracksExtents() && (persistent || opaque)) {
+      if (anchors_.tracksExtents() && (persistent || opaque)) {
         for (uint32_t r = first; r < last; ++r) {
           const uint32_t root = find(r);
           persistent_[root] |= persistent;
@@ -317,7 +305,7 @@ void MotionRemover::classifyBand(const ReflectanceField& field, const CellBox& b
 }
 
 MotionRemovalCounts MotionRemover::classify(
-    const ReflectanceField& field, const CellBox& box,
+    const ReflectanceField& field, const AnchorHistory& history, const CellBox& box,
     const std::function<CellClass(const CellIndex&)>& outside, std::vector<CellClass>& classes,
     ParallelRunner* runner) {
   const int bins = field.geometry().thetaBins();
@@ -351,7 +339,7 @@ MotionRemovalCounts MotionRemover::classify(
   anchored_.assign(runs_.size(), 0);
   persistent_.assign(runs_.size(), 0);
   opaque_.assign(runs_.size(), 0);
-  extent_.resize(tracksExtents() ? runs_.size() : 0);
+  extent_.resize(anchors_.tracksExtents() ? runs_.size() : 0);
   forEachBand([&](int p) {
     std::copy(band_runs_[p].begin(), band_runs_[p].end(), runs_.begin() + band_offset[p]);
     const size_t begin = static_cast<size_t>(bands[p].first_row) * box.width();
@@ -363,7 +351,7 @@ MotionRemovalCounts MotionRemover::classify(
       const uint32_t last = local + 1 < end ? cell_first_run_[local + 1]
                                             : static_cast<uint32_t>(band_runs_[p].size());
       cell_first_run_[local] = first + offset;
-      if (first == last || !tracksExtents()) continue;
+      if (first == last || !anchors_.tracksExtents()) continue;
       const auto col = static_cast<int16_t>(local % box.width());
       const auto row = static_cast<int16_t>(local / box.width());
       for (uint32_t r = first + offset; r < last + offset; ++r)
@@ -372,7 +360,7 @@ MotionRemovalCounts MotionRemover::classify(
   });
   widely_visible_.assign(cells, 0);
   // Each band unites only its own runs, so bands do not touch each other's trees.
-  forEachBand([&](int p) { joinBand(field, box, bands[p], outside); });
+  forEachBand([&](int p) { joinBand(field, history, box, bands[p], outside); });
   for (int p = 0; p + 1 < parts; ++p) {
     if (bands[p].end_row > bands[p].first_row) joinRows(box, bands[p].end_row - 1, bins);
   }

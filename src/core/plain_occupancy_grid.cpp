@@ -8,7 +8,7 @@ namespace rfm {
 
 struct PlainOccupancyGrid::Target {
   PlainOccupancyGrid& grid;
-  // Values held locally, as in ReflectanceField::SliceWriter, so the two compare fairly.
+  // Values held locally, as in detail::SliceWriter, so the two compare fairly.
   struct Writer {
     int8_t* cells;
     int hit_step, miss_step, min, max;

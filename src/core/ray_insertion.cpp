@@ -43,4 +43,14 @@ uint16_t DeduplicatingRayInserter::nextStamp() {
   return stamp_;
 }
 
+void clipRaysToRegion(const CellBox& box, double resolution, double radius,
+                      std::vector<Ray>& rays) {
+  size_t kept = 0;
+  for (Ray& ray : rays) {
+    clipRayToLength(radius, ray);
+    if (clipRayToBox(box, resolution, ray)) rays[kept++] = ray;
+  }
+  rays.resize(kept);
+}
+
 }  // namespace rfm

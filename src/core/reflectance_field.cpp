@@ -42,7 +42,6 @@ ReflectanceField::ReflectanceField(const GridOptions& grid, const LogOddsOptions
       missed_bins_(plane_, 0),
       hit_since_tick_(plane_, 0),
       reflective_bins_(plane_, 0),
-      confirmed_ticks_(plane_, 0),
       tile_reflective_cells_(window_.storageTiles(), 0),
       tile_versions_(window_.storageTiles(), 0),
       tick_pending_(window_.storageTiles(), 0) {}
@@ -87,16 +86,7 @@ void ReflectanceField::archiveTiles(const std::vector<TileIndex>& tiles, Paralle
     }
     clearTileStorage(tiles[i], observed);
   });
-  const int tile_slots = window_.tileCells() * window_.tileCells();
   for (size_t i = 0; i < tiles.size(); ++i) {
-    // The history is a summary of the active region only: it is not archived.
-    if (!reflective_history_.empty() || !confirmed_history_.empty()) {
-      const int first = static_cast<int>(window_.tileFirstSlot(tiles[i]));
-      for (int slot = first; slot < first + tile_slots; ++slot) {
-        reflective_history_.erase(slot);
-        confirmed_history_.erase(slot);
-      }
-    }
     if (!packed[i].empty()) {
       archive_.store(tiles[i], std::move(packed[i]));
     } else {
@@ -150,45 +140,11 @@ double ReflectanceField::reflectiveOddsAt(int storage_index) const {
 size_t ReflectanceField::activeBytes() const {
   return bins_.size() * sizeof(int8_t) + reflective_masks_.size() * sizeof(uint64_t) +
          missed_bins_.size() * sizeof(uint16_t) + hit_since_tick_.size() +
-         reflective_bins_.size() * sizeof(uint16_t) + confirmed_ticks_.size() +
-         tile_reflective_cells_.size() * sizeof(int) + tile_versions_.size() * sizeof(uint32_t) +
-         historyBytes();
-}
-
-size_t ReflectanceField::historyBytes() const {
-  // Per entry: the mask words, the history and key, a hash node and its bucket pointer.
-  const size_t entry = mask_words_ * sizeof(uint64_t) + sizeof(CellHistory) + sizeof(int) +
-                       2 * sizeof(void*) + sizeof(void*);
-  const size_t confirmed_entry = mask_words_ * sizeof(uint64_t) + theta_bins_ * sizeof(int8_t) +
-                                 sizeof(ConfirmedHistory) + sizeof(int) + 3 * sizeof(void*);
-  return reflective_history_.size() * entry + confirmed_history_.size() * confirmed_entry;
-}
-
-int ReflectanceField::vacantTicksAt(int storage_index) const {
-  const auto it = reflective_history_.find(storage_index);
-  return it == reflective_history_.end() ? 0 : it->second.vacant_ticks;
-}
-
-int ReflectanceField::abandonedTicksAt(int storage_index) const {
-  const auto it = confirmed_history_.find(storage_index);
-  return it == confirmed_history_.end() ? 0 : it->second.abandoned_ticks;
-}
-
-int ReflectanceField::contradictedBinsAt(int storage_index) const {
-  if (missed_bins_[storage_index] == 0) return 0;  // nothing seen through it
-  const auto it = reflective_history_.find(storage_index);
-  if (it == reflective_history_.end()) return 0;
-  const int confidently_missed = log_odds_.minValue() / 2;
-  int count = 0;
-  forEachMaskBit(it->second.bins.data(), mask_words_, [&](int bin) {
-    count += bins_[static_cast<size_t>(bin) * plane_ + storage_index] <= confidently_missed;
-  });
-  return count;
+         reflective_bins_.size() * sizeof(uint16_t) + tile_reflective_cells_.size() * sizeof(int) +
+         tile_versions_.size() * sizeof(uint32_t);
 }
 
 void ReflectanceField::clear() {
-  reflective_history_.clear();
-  confirmed_history_.clear();
   // Fresh zero pages instead of writing zeros over the old ones (100 MB for a batch's window, on
   // one thread): they fault in where the next insertions reach, on the inserting threads.
   bins_ = ZeroedHugeArray<int8_t>(bins_.size());
@@ -196,7 +152,6 @@ void ReflectanceField::clear() {
   std::fill(missed_bins_.begin(), missed_bins_.end(), 0);
   std::fill(hit_since_tick_.begin(), hit_since_tick_.end(), 0);
   std::fill(reflective_bins_.begin(), reflective_bins_.end(), 0);
-  std::fill(confirmed_ticks_.begin(), confirmed_ticks_.end(), 0);
   std::fill(tile_reflective_cells_.begin(), tile_reflective_cells_.end(), 0);
   std::fill(tick_pending_.begin(), tick_pending_.end(), 0);
   for (uint32_t& version : tile_versions_)
@@ -242,7 +197,6 @@ void ReflectanceField::clearTileStorage(const TileIndex& tile, bool bins_too) {
   std::fill_n(&missed_bins_[first], cells, 0);
   std::fill_n(&hit_since_tick_[first], cells, 0);
   std::fill_n(&reflective_bins_[first], cells, 0);
-  std::fill_n(&confirmed_ticks_[first], cells, 0);
   std::fill_n(&reflective_masks_[first * mask_words_], cells * mask_words_, 0);
   const int storage_tile = window_.storageTile(tile);
   tile_reflective_cells_[storage_tile] = 0;
@@ -340,140 +294,6 @@ void ReflectanceField::applySummaryChanges(std::vector<DeferredSummaries>& write
   constexpr size_t kMinWorkToShare = 4096;
   if (work < kMinWorkToShare) runner = nullptr;
   parallelFor(runner, parts, 1, apply_part);
-}
-
-void ReflectanceField::tickPersistence(int remembered_min_bins, int confirmed_min_ticks,
-                                       ParallelRunner* runner) {
-  // On the runner's threads: they split the histories by hash bucket and the cells by tile, and
-  // each updates only what it was given. Histories to drop or create change the maps, so the
-  // threads collect those and the caller makes them after each step.
-  const int threads = runner ? runner->threads() : 1;
-  // Per thread: slots of histories to drop, of cells to get a history, of cells to become certain.
-  std::vector<std::vector<int>> dropped(threads), remembered(threads), certain(threads);
-  auto for_each_history = [&](auto& histories, auto&& update) {
-    constexpr size_t kBucketsPerPart = 256;
-    const size_t buckets = histories.bucket_count();
-    parallelFor(runner, (buckets + kBucketsPerPart - 1) / kBucketsPerPart, 1,
-                [&](size_t part, int thread) {
-                  const size_t end = std::min(buckets, (part + 1) * kBucketsPerPart);
-                  for (size_t b = part * kBucketsPerPart; b < end; ++b) {
-                    for (auto it = histories.begin(b); it != histories.end(b); ++it)
-                      update(it->first, it->second, thread);
-                  }
-                });
-  };
-  // Abandonment first, like vacancy: it compares with the last tick and reads the hits since.
-  for_each_history(confirmed_history_, [&](int slot, ConfirmedHistory& history, int thread) {
-    if (!reflective_bins_[slot]) {
-      dropped[thread].push_back(slot);  // no longer confirmed
-      return;
-    }
-    bool lost_certainty = false;
-    forEachMaskBit(history.certain.data(), mask_words_, [&](int bin) {
-      const int8_t value = bins_[static_cast<size_t>(bin) * plane_ + slot];
-      lost_certainty |= value < history.at_tick[bin];
-      history.at_tick[bin] = value;
-    });
-    if (hit_since_tick_[slot]) {
-      history.abandoned_ticks = 0;
-    } else if (lost_certainty && history.abandoned_ticks < 255) {
-      ++history.abandoned_ticks;
-    }
-  });
-  for (const std::vector<int>& part : dropped) {
-    for (int slot : part)
-      confirmed_history_.erase(slot);
-  }
-  // Vacancy first: it reads the hits since the last tick, which the loop below clears.
-  for_each_history(reflective_history_, [&](int slot, CellHistory& history, int) {
-    if (hit_since_tick_[slot]) {
-      history.vacant_ticks = 0;
-    } else if (missed_bins_[slot] > history.missed_at_tick && history.vacant_ticks < 255) {
-      ++history.vacant_ticks;
-    }
-    history.missed_at_tick = missed_bins_[slot];
-  });
-  // Tile by tile: storage tiles are contiguous blocks of slots.
-  const size_t tile_slots = size_t{1} << window_.tileSlotShift();
-  constexpr size_t kTilesPerPart = 16;
-  const size_t tiles = plane_ / tile_slots;
-  parallelFor(runner, (tiles + kTilesPerPart - 1) / kTilesPerPart, 1, [&](size_t part, int thread) {
-    const size_t end = std::min(plane_, (part + 1) * kTilesPerPart * tile_slots);
-    for (size_t first = part * kTilesPerPart * tile_slots; first < end; first += tile_slots) {
-      // A tile with no hit and no mask change since the last tick was left as this tick would
-      // leave it: hit flags clear, unreflective cells at 0 ticks, reflective ones held, histories
-      // holding their masks. Unless every cell is remembered, reflective or not (min bins 0).
-      uint8_t& pending = tick_pending_[first >> window_.tileSlotShift()];
-      if (!pending && remembered_min_bins > 0) continue;
-      pending = 0;
-      if (remembered_min_bins > 0 &&
-          tile_reflective_cells_[first >> window_.tileSlotShift()] == 0) {
-        // No cell of this tile is reflective: none is remembered or confirmed, so all that is
-        // left to do is what the loop below does to unreflective cells.
-        std::fill_n(&confirmed_ticks_[first], tile_slots, uint8_t{0});
-        std::fill_n(&hit_since_tick_[first], tile_slots, uint8_t{0});
-        continue;
-      }
-      for (size_t index = first; index < first + tile_slots; ++index) {
-        if (reflective_bins_[index] >= remembered_min_bins) {
-          const auto it = reflective_history_.find(static_cast<int>(index));
-          if (it != reflective_history_.end()) {
-            addReflectiveBins(index, it->second);
-          } else {
-            remembered[thread].push_back(static_cast<int>(index));
-          }
-        }
-        uint8_t& ticks = confirmed_ticks_[index];
-        if (!reflective_bins_[index]) {
-          ticks = 0;
-        } else if (hit_since_tick_[index] && ticks < 255) {
-          ++ticks;  // not hit (occluded, out of view): held, neither confirmed nor reset
-        }
-        // Only hits make a bin certain.
-        if (confirmed_min_ticks > 0 && ticks >= confirmed_min_ticks && hit_since_tick_[index]) {
-          const auto it = confirmed_history_.find(static_cast<int>(index));
-          if (it != confirmed_history_.end()) {
-            addCertainBins(index, it->second);
-          } else {
-            certain[thread].push_back(static_cast<int>(index));
-          }
-        }
-        hit_since_tick_[index] = 0;
-      }
-    }
-  });
-  for (const std::vector<int>& part : remembered) {
-    for (int slot : part) {
-      CellHistory& history = reflective_history_[slot];
-      history.missed_at_tick = missed_bins_[slot];
-      addReflectiveBins(slot, history);
-    }
-  }
-  for (const std::vector<int>& part : certain) {
-    for (int slot : part) {
-      ConfirmedHistory& history = confirmed_history_[slot];
-      history.certain.assign(mask_words_, 0);
-      history.at_tick.resize(theta_bins_);
-      addCertainBins(slot, history);
-    }
-  }
-}
-
-void ReflectanceField::addReflectiveBins(size_t storage_index, CellHistory& history) const {
-  history.bins.resize(mask_words_, 0);
-  const uint64_t* mask = &reflective_masks_[storage_index * mask_words_];
-  for (int w = 0; w < mask_words_; ++w)
-    history.bins[w] |= mask[w];
-}
-
-void ReflectanceField::addCertainBins(size_t storage_index, ConfirmedHistory& history) const {
-  // Certain bins are reflective ones at the clamp.
-  forEachMaskBit(&reflective_masks_[storage_index * mask_words_], mask_words_, [&](int bin) {
-    const int8_t value = bins_[static_cast<size_t>(bin) * plane_ + storage_index];
-    if (value < log_odds_.maxValue()) return;
-    history.certain[bin >> 6] |= uint64_t{1} << (bin & 63);
-    history.at_tick[bin] = value;
-  });
 }
 
 void ReflectanceField::revertAt(int storage_index, int bin, int step) {

@@ -1,5 +1,7 @@
 #include "reflectance_field_map/core/scan_inserter.h"
 
+#include "reflectance_field_map/core/detail/slice_writer.h"
+
 #include <algorithm>
 
 namespace rfm {
@@ -11,7 +13,7 @@ struct FieldTarget {
   static constexpr bool kOneFanPerGroup = true;
   ReflectanceField& field;
   ReflectanceField::DeferredSummaries* deferred;  // null: apply summaries at once
-  ReflectanceField::SliceWriter writer(int bin) { return field.sliceWriter(bin, deferred); }
+  detail::SliceWriter writer(int bin) { return field.sliceWriter(bin, deferred); }
 };
 
 // The same, without counting the updates (see insertScans).

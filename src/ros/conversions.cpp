@@ -9,7 +9,9 @@
 namespace rfm::ros_glue {
 
 double yawFromQuaternion(const geometry_msgs::Quaternion& q) {
-  return std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
+  // w^2 + x^2 - y^2 - z^2 rather than 1 - 2 (y^2 + z^2): both terms scale with the norm, so
+  // their angle holds for a quaternion that is not normalised.
+  return std::atan2(2.0 * (q.w * q.z + q.x * q.y), q.w * q.w + q.x * q.x - q.y * q.y - q.z * q.z);
 }
 
 rfm::Pose2D toPose2D(const geometry_msgs::Transform& transform) {

@@ -1,5 +1,5 @@
 // Insertion, motion removal and whole-update benchmarks on the default active region
-// (10 m, 5 cm, 2 deg) with 1081-beam UTM-30LX scans. Results: test/benchmark/RESULTS.md.
+// (10 m, 5 cm, 2 deg) with 1081-beam UTM-30LX scans. Results: doc/benchmarks.md.
 
 #include "reflectance_field_map/core/mapper.h"
 #include "reflectance_field_map/core/motion_removal.h"
@@ -272,8 +272,9 @@ void BM_MotionClassify(benchmark::State& state) {
     MotionRemover fresh(rule);
     state.ResumeTiming();
     MotionRemover& remover = state.range(0) != 0 ? reusing : fresh;
-    benchmark::DoNotOptimize(
-        remover.classify(mapper.field(), mapper.field().activeBox(), outside, classes, &runner));
+    benchmark::DoNotOptimize(remover.classify(mapper.field(), mapper.anchorHistory(),
+                                              mapper.field().activeBox(), outside, classes,
+                                              &runner));
   }
 }
 BENCHMARK(BM_MotionClassify)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Runs the benchmarks as recorded in test/benchmark/RESULTS.md: every benchmark repeated 7 times,
+# Runs the benchmarks as recorded in doc/benchmarks.md: every benchmark repeated 7 times,
 # repetitions randomly interleaved so that ratios are measured side by side, medians reported.
 # Run on a quiet machine, after scripts/build.sh.
 set -euo pipefail

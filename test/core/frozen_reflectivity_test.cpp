@@ -17,10 +17,19 @@ TEST(FrozenReflectivity, KeepsTheMasksOfStaticCellsAsTheyWere) {
     field.applyHit(wall, 130);  // a bin in the mask's third word
     field.applyHit(glass, 10);
   }
-  std::vector<CellClass> classes(field.window().sizeCells() * field.window().sizeCells(),
-                                 CellClass::kFree);
-  classes[field.window().storageIndex(wall)] = CellClass::kStatic;
-  classes[field.window().storageIndex(glass)] = CellClass::kGlass;
+  GlobalMap2D map;
+  ActiveClasses classes(field.window(), map, /*clearance_block_shift=*/2);
+  ClassifiedRegion region;
+  region.box = field.activeBox();
+  region.classes.assign(static_cast<size_t>(region.box.width()) * region.box.height(),
+                        CellClass::kFree);
+  auto set = [&](const CellIndex& cell, CellClass c) {
+    region.classes[static_cast<size_t>(cell.y() - region.box.min.y()) * region.box.width() +
+                   (cell.x() - region.box.min.x())] = c;
+  };
+  set(wall, CellClass::kStatic);
+  set(glass, CellClass::kGlass);
+  classes.replace(region, nullptr);
 
   FrozenReflectivity frozen;
   EXPECT_FALSE(frozen.active());

@@ -14,22 +14,13 @@ namespace rfm {
 namespace {
 
 using testing::driveBy;
+using testing::roomWithPane;
 using testing::runScenario;
 using testing::SyntheticWorld;
 
-SyntheticWorld room() {
-  SyntheticWorld world;
-  world.addWall({-4.0, -3.0}, {4.0, -3.0});
-  world.addWall({4.0, -3.0}, {4.0, 3.0});
-  world.addWall({4.0, 3.0}, {-4.0, 3.0});
-  world.addWall({-4.0, 3.0}, {-4.0, -3.0});
-  world.addFramedPane({-3.0, 0.0}, {0.0, 0.0});  // parallel to the robot's paths
-  return world;
-}
-
 TEST(Mapper, MalformedScansAreRejectedAndChangeNothing) {
   Mapper mapper(MapperOptions{});
-  TimedScan scan = room().timedScan({{0.0, 0.0}, 0.0});
+  TimedScan scan = roomWithPane().timedScan({{0.0, 0.0}, 0.0});
   scan.scan.ranges.pop_back();
   scan.scan.ranges.pop_back();
   scan.scan.ranges.pop_back();
@@ -41,7 +32,7 @@ TEST(Mapper, MalformedScansAreRejectedAndChangeNothing) {
 
 TEST(Mapper, NanAndInfiniteRangesAreHandled) {
   Mapper mapper(MapperOptions{});
-  TimedScan scan = room().timedScan({{0.0, 0.0}, 0.0});
+  TimedScan scan = roomWithPane().timedScan({{0.0, 0.0}, 0.0});
   scan.scan.ranges[0] = std::nanf("");
   scan.scan.ranges[1] = -std::numeric_limits<float>::infinity();
   scan.scan.ranges[2] = std::numeric_limits<float>::infinity();
@@ -55,7 +46,7 @@ TEST(Mapper, NanAndInfiniteRangesAreHandled) {
 }
 
 TEST(Mapper, SaveLoadRoundTripsTheMapAndTheField) {
-  SyntheticWorld world = room();
+  SyntheticWorld world = roomWithPane();
   Mapper mapper(testing::scenarioOptions());
   runScenario(mapper, world, driveBy({-2.0, 1.0}, {2.0, 1.0}, 0.0));
   std::stringstream state;
@@ -86,7 +77,7 @@ TEST(Mapper, SaveLoadRoundTripsTheMapAndTheField) {
 }
 
 TEST(Mapper, ResetForgetsEverything) {
-  SyntheticWorld world = room();
+  SyntheticWorld world = roomWithPane();
   Mapper mapper(testing::scenarioOptions());
   runScenario(mapper, world, driveBy({-2.0, 1.0}, {2.0, 1.0}, 0.0));
   EXPECT_GT(mapper.map().tileCount(), 0u);
@@ -187,15 +178,17 @@ void expectAddScansMatchesAddScan(bool reflection_removal, bool restart = false,
   }
   const ReflectanceField& a = one_by_one.field();
   const ReflectanceField& b = grouped.field();
+  const AnchorHistory& a_history = one_by_one.anchorHistory();
+  const AnchorHistory& b_history = grouped.anchorHistory();
   ASSERT_EQ(a.activeBox().min, b.activeBox().min);
   EXPECT_TRUE(a.wouldRecenter({1.0, 0.0}));  // the window moved on from the start
   size_t reflective = 0, confirmed = 0;
   a.window().forEachCell(a.activeBox(), [&](int, int, int slot) {
     ASSERT_EQ(a.reflectiveBinsAt(slot), b.reflectiveBinsAt(slot));
     ASSERT_EQ(a.missedBinsAt(slot), b.missedBinsAt(slot));
-    ASSERT_EQ(a.confirmedTicksAt(slot), b.confirmedTicksAt(slot));
+    ASSERT_EQ(a_history.confirmedTicksAt(slot), b_history.confirmedTicksAt(slot));
     reflective += a.reflectiveBinsAt(slot);
-    confirmed += a.confirmedTicksAt(slot) > 0;
+    confirmed += a_history.confirmedTicksAt(slot) > 0;
   });
   for (int y = a.activeBox().min.y(); y < a.activeBox().max.y(); ++y) {
     for (int x = a.activeBox().min.x(); x < a.activeBox().max.x(); ++x) {
@@ -244,98 +237,6 @@ TEST(Mapper, AddScansGivesWhatAddScanGivesWithRaysBeyondTheWindow) {
   // Without reflection removal every group goes into the field together (insertScans, which
   // takes the mapper's rays as already clipped to the window).
   expectAddScansMatchesAddScan(false, /*restart=*/false, /*sensor_ahead=*/1.2);
-}
-
-TEST(BatchProcessor, PlainGridBaselineErasesGlassThatTheRfmKeeps) {
-  SyntheticWorld world = room();
-  std::vector<TimedScan> scans;
-  for (const auto& step : driveBy({-2.5, 1.5}, {2.5, 1.5}, 0.0)) {
-    scans.push_back(world.timedScan(step.robot, 0.025 * scans.size()));
-  }
-  for (const auto& step : driveBy({2.5, -1.5}, {-2.5, -1.5}, kPi)) {
-    scans.push_back(world.timedScan(step.robot, 0.025 * scans.size()));
-  }
-  const BatchResult baseline = processBatch(scans, MapperOptions{}, BatchMode::kPlainGrid);
-  const BatchResult full = processBatch(scans, MapperOptions{}, BatchMode::kFull);
-  ASSERT_EQ(baseline.labels.size(), scans.size());
-  ASSERT_EQ(full.labels.size(), scans.size());
-  EXPECT_EQ(full.labels[0].size(), scans[0].scan.ranges.size());
-  const GridGeometry g(0.05, 180);
-  auto pane_kept = [&](const GlobalMap2D& map) {
-    int kept = 0, total = 0;
-    for (double x = -2.8; x <= -0.2; x += 0.05, ++total) {
-      kept += isObstacle(map.get(g.cellOf({x, 1e-3}))) || isObstacle(map.get(g.cellOf({x, -1e-3})));
-    }
-    return static_cast<double>(kept) / total;
-  };
-  EXPECT_GT(pane_kept(full.map), 0.9);
-  EXPECT_LT(pane_kept(baseline.map), 0.5);
-}
-
-TEST(BatchProcessor, RecordingTooLargeForOneWindowIsRejected) {
-  SyntheticWorld world = room();
-  const std::vector<TimedScan> scans = {world.timedScan(Pose2D{{0.0, 0.0}, 0.0}, 0.0),
-                                        world.timedScan(Pose2D{{420.0, 0.0}, 0.0}, 0.025)};
-  for (BatchMode mode : {BatchMode::kPlainGrid, BatchMode::kFull}) {
-    try {
-      processBatch(scans, MapperOptions{}, mode);
-      ADD_FAILURE() << "a recording 420 m across was accepted";
-    } catch (const std::invalid_argument& error) {
-      EXPECT_NE(std::string(error.what()).find("at most 400 m across"), std::string::npos)
-          << error.what();
-    }
-  }
-}
-
-// A corridor 3 m wide, closed 15.5 m ahead of where the robot starts.
-SyntheticWorld longCorridor() {
-  SyntheticWorld world;
-  world.addWall({-1.0, -1.5}, {15.5, -1.5});
-  world.addWall({-1.0, 1.5}, {15.5, 1.5});
-  world.addWall({15.5, -1.5}, {15.5, 1.5});
-  world.addWall({-1.0, -1.5}, {-1.0, 1.5});
-  return world;
-}
-
-TEST(BatchProcessor, RaysAddEvidenceOnlyWithinTheRadiusAsLive) {
-  // The robot never comes within 5 m of the corridor's end, which lies inside the batch's window.
-  // A person stands 7-8 m ahead of it at first (too far to add evidence), then leaves, and the
-  // robot drives over the spot.
-  SyntheticWorld world = longCorridor();
-  MapperOptions options;
-  options.active_region.active_region_radius = 5.0;
-  const Eigen::Vector2d person(8.0, 0.0);
-  std::vector<TimedScan> scans;
-  size_t scans_with_person = 0;
-  for (const auto& step : driveBy({0.0, 0.0}, {10.0, 0.0}, 0.0)) {
-    world.people.clear();
-    if (step.robot.position.x() < 1.0) {
-      world.people.push_back({person, 0.25});
-      ++scans_with_person;
-    }
-    scans.push_back(world.timedScan(step.robot, 0.025 * scans.size()));
-  }
-  const int ahead = 540;  // the beam along the corridor
-  const GridGeometry g(0.05, 180);
-  for (BatchMode mode : {BatchMode::kBasicRfm, BatchMode::kFull, BatchMode::kPlainGrid}) {
-    SCOPED_TRACE(static_cast<int>(mode));
-    const BatchResult result = processBatch(scans, options, mode);
-    ASSERT_EQ(result.labels.size(), scans.size());
-    // The end wall, 5.5 m or more from every view, got no evidence: unknown, as live.
-    for (const CellIndex& end_wall : {g.cellOf({15.48, 0.0}), g.cellOf({15.48, 1.0})}) {
-      EXPECT_TRUE(result.map.bounds().contains(end_wall));
-      EXPECT_EQ(result.map.get(end_wall), CellClass::kUnknown);
-    }
-    // Beams ending there are not judged: kept.
-    for (size_t i = scans_with_person; i < scans.size(); ++i)
-      ASSERT_EQ(result.labels[i][ahead], RayLabel::kKept) << "scan " << i;
-    // The person's spot was seen free from closer: the beams that ended on the person are judged.
-    EXPECT_EQ(occupancyValue(result.map.get(g.cellOf(person))), 0);
-    for (size_t i = 0; i < scans_with_person; ++i) {
-      ASSERT_TRUE(std::isfinite(scans[i].scan.ranges[ahead]));
-      ASSERT_NE(result.labels[i][ahead], RayLabel::kKept) << "scan " << i;
-    }
-  }
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <random>
 
 namespace rfm {
@@ -41,7 +42,7 @@ struct DirectField {
     std::vector<CellClass> classes;
     const CellBox box = field.activeBox();
     remover.classify(
-        field, box, [](const CellIndex&) { return CellClass::kUnknown; }, classes);
+        field, history, box, [](const CellIndex&) { return CellClass::kUnknown; }, classes);
     return classes[static_cast<size_t>(cell.y() - box.min.y()) * box.width() + cell.x() -
                    box.min.x()];
   }
@@ -59,7 +60,17 @@ struct DirectField {
     EXPECT_EQ(classifyWith(cell, rule, met, base), CellClass::kMotion) << "rule at " << met;
     EXPECT_EQ(classifyWith(cell, rule, met + 1, base), anchored) << "rule at " << met + 1;
   }
+  // A persistence tick keeping the histories of cells with at least `remembered_min_bins`
+  // reflective bins and of cells confirmed for `confirmed_min_ticks` (0: none).
+  void tick(int remembered_min_bins = std::numeric_limits<int>::max(),
+            int confirmed_min_ticks = 0) {
+    AnchorRules tracked;
+    tracked.remembered_min_bins = remembered_min_bins;
+    tracked.confirmed_min_ticks = confirmed_min_ticks;
+    history.tick(field, tracked);
+  }
   ReflectanceField field;
+  AnchorHistory history{field};
 };
 
 TEST(MotionRemover, TwentySixConnectivityIncludingThetaWrap) {
@@ -144,7 +155,7 @@ TEST(MotionRemover, PersistentCellsAnchorOnlyLongComponents) {
       f.hit({8, y}, 0, 1);  // a 1 m wall segment, seen head-on
     for (int x = -12; x < -8; ++x)
       f.hit({x, 5}, 90, 1);  // a 0.2 m blob
-    f.field.tickPersistence();
+    f.tick();
   }
   auto persistence = [](int ticks, int min_cells) {
     AnchorRules anchors;
@@ -167,7 +178,7 @@ TEST(MotionRemover, DepartedCellsAnchorNothing) {
   const CellIndex spot(-5, 3);
   for (int bin = 0; bin < 180; ++bin)
     f.hit(spot, bin);
-  f.field.tickPersistence(/*remembered_min_bins=*/1);
+  f.tick(/*remembered_min_bins=*/1);
   for (int i = 0; i < 20; ++i) {
     for (int bin = 10; bin < 13; ++bin)
       f.field.applyMiss(spot, bin);
@@ -182,13 +193,13 @@ TEST(MotionRemover, VacantCellsAnchorNothing) {
   const CellIndex spot(-5, 3);
   for (int bin = 0; bin < 120; ++bin)
     f.hit(spot, bin);
-  f.field.tickPersistence(/*remembered_min_bins=*/1);
+  f.tick(/*remembered_min_bins=*/1);
   for (int tick = 0; tick < 2; ++tick) {
     for (int bin = 150 + 5 * tick; bin < 155 + 5 * tick; ++bin)
       f.field.applyMiss(spot, bin);
-    f.field.tickPersistence(1);
+    f.tick(1);
   }
-  ASSERT_EQ(f.field.vacantTicksAt(f.field.window().storageIndex(spot)), 2);
+  ASSERT_EQ(f.history.vacantTicksAt(f.field.window().storageIndex(spot)), 2);
   f.expectRuleMetExactlyAt(spot, &AnchorRules::departure_vacant_ticks, 2, CellClass::kStatic);
 }
 
@@ -201,12 +212,12 @@ TEST(MotionRemover, AbandonedPersistentCellsAnchorNothing) {
   for (int tick = 0; tick <= kConfirmed; ++tick) {
     for (int x = -12; x < -8; ++x)
       f.hit({x, 5}, 90, 6);
-    f.field.tickPersistence(/*remembered_min_bins=*/1000, kConfirmed);
+    f.tick(/*remembered_min_bins=*/1000, kConfirmed);
   }
   for (int tick = 0; tick < 2; ++tick) {
     for (int x = -12; x < -8; ++x)
       f.field.applyMiss({x, 5}, 90);
-    f.field.tickPersistence(1000, kConfirmed);
+    f.tick(1000, kConfirmed);
   }
   AnchorRules confirmed;
   confirmed.persistence_ticks = kConfirmed;
@@ -250,7 +261,7 @@ TEST(MotionRemover, KnownObstaclesOutsideTheBoxSeedComponents) {
   MotionRemover remover(OccupancyRule(OccupancyOptions(), f.field.geometry().binWidth()));
   std::vector<CellClass> classes;
   remover.classify(
-      f.field, box,
+      f.field, f.history, box,
       [&](const CellIndex& c) {
         return c.x() == box.max.x() ? CellClass::kStatic : CellClass::kUnknown;
       },
@@ -282,10 +293,11 @@ TEST(MotionRemover, ThreadsGiveTheClassesOfOneThread) {
   auto outside = [](const CellIndex&) { return CellClass::kUnknown; };
   std::vector<CellClass> one, several;
   MotionRemover single(rule), banded(rule);
-  const MotionRemovalCounts a = single.classify(f.field, box, outside, one);
+  const MotionRemovalCounts a = single.classify(f.field, f.history, box, outside, one);
   for (int threads : {2, 3, 7}) {
     ParallelRunner runner(threads);
-    const MotionRemovalCounts b = banded.classify(f.field, box, outside, several, &runner);
+    const MotionRemovalCounts b =
+        banded.classify(f.field, f.history, box, outside, several, &runner);
     EXPECT_EQ(one, several) << threads;
     EXPECT_EQ(a.components, b.components) << threads;
     EXPECT_EQ(a.motion_cells, b.motion_cells) << threads;
@@ -322,10 +334,12 @@ TEST(MotionRemover, ReusingUnchangedTilesGivesTheFreshResult) {
     mapper.addScan(world.timedScan({{0.6 * t, 0.0}, 0.0}, t));
     if ((i + 1) % 20 != 0) continue;
     const CellBox box = mapper.field().activeBox();
-    const MotionRemovalCounts a = incremental.classify(mapper.field(), box, outside, reused,
-                                                       i % 40 == 19 ? &runner : nullptr);
+    const MotionRemovalCounts a =
+        incremental.classify(mapper.field(), mapper.anchorHistory(), box, outside, reused,
+                             i % 40 == 19 ? &runner : nullptr);
     const MotionRemovalCounts b =
-        MotionRemover(rule, anchors).classify(mapper.field(), box, outside, fresh);
+        MotionRemover(rule, anchors)
+            .classify(mapper.field(), mapper.anchorHistory(), box, outside, fresh);
     ASSERT_EQ(reused, fresh) << "after scan " << i;
     ASSERT_EQ(a.free_cells, b.free_cells);
     ASSERT_EQ(a.motion_cells, b.motion_cells);
@@ -341,8 +355,9 @@ TEST(MotionRemover, ReusingUnchangedTilesGivesTheFreshResult) {
   // Sub-boxes and a different field are classified afresh.
   const CellBox inner{mapper.field().activeBox().min + CellIndex(5, 7),
                       mapper.field().activeBox().max - CellIndex(9, 3)};
-  incremental.classify(mapper.field(), inner, outside, reused);
-  MotionRemover(rule, anchors).classify(mapper.field(), inner, outside, fresh);
+  incremental.classify(mapper.field(), mapper.anchorHistory(), inner, outside, reused);
+  MotionRemover(rule, anchors)
+      .classify(mapper.field(), mapper.anchorHistory(), inner, outside, fresh);
   EXPECT_EQ(reused, fresh);
 }
 

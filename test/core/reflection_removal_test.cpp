@@ -1,6 +1,9 @@
+#include "reflectance_field_map/core/reflection_removal.h"
+
 #include "reflectance_field_map/core/batch_processor.h"
-#include "reflectance_field_map/core/ray_classification.h"
-#include "reflectance_field_map/core/shared_leap.h"
+#include "reflectance_field_map/core/detail/pass_through_detector.h"
+#include "reflectance_field_map/core/detail/shared_leap.h"
+#include "reflectance_field_map/core/ray_traversal.h"
 
 #include "scenario.h"
 
@@ -14,28 +17,33 @@
 namespace rfm {
 namespace {
 
+using detail::PassThroughDetector;
+using detail::SharedLeap;
+using testing::countLabels;
+using testing::driveAlongThePane;
 using testing::driveBy;
 using testing::fractionAlong;
+using testing::LabelCounts;
 using testing::Material;
+using testing::paneWithWallBehind;
+using testing::paneWithWallBehindWorld;
 using testing::runScenario;
 using testing::ScenarioStep;
 using testing::SyntheticWorld;
 
-struct LabelCounts {
-  size_t kept = 0, motion = 0, reflection = 0, no_return = 0;
-};
-
-LabelCounts count(const std::vector<std::vector<RayLabel>>& labels) {
-  LabelCounts c;
-  for (const auto& scan : labels) {
-    for (RayLabel l : scan) {
-      c.kept += l == RayLabel::kKept;
-      c.motion += l == RayLabel::kMotion;
-      c.reflection += l == RayLabel::kReflection;
-      c.no_return += l == RayLabel::kNoReturn;
-    }
-  }
-  return c;
+// The reference for the reflection check: one cell after another over the global cells, no
+// leaps. class_of(cell) -> CellClass, reflective_near(cell, bin) -> bool.
+template <typename ClassOf, typename ReflectiveNear>
+double firstPassThroughDistance(const Ray& ray, const GridGeometry& geometry,
+                                double penetration_tolerance, ClassOf&& class_of,
+                                ReflectiveNear&& reflective_near) {
+  PassThroughDetector detector(ray, geometry, penetration_tolerance);
+  forEachCellOnRayWhile(
+      ray.origin, ray.end, geometry.inverseResolution(), [&](const CellIndex& cell) {
+        return detector.visit(
+            cell, class_of(cell), [&](int bin) { return reflective_near(cell, bin); }, class_of);
+      });
+  return detector.distance();
 }
 
 TEST(FirstPassThroughDistance, StopsWhereTheRayCrossesGlassOrAStaticSurface) {
@@ -87,36 +95,13 @@ TEST(FirstPassThroughDistance, StopsWhereTheRayCrossesGlassOrAStaticSurface) {
   EXPECT_LT(firstPassThroughDistance(ray, g, 0.15, pane_ending_here, never), 0.0);
 }
 
-// A framed glass pane 2 m from the line x = 0 with a wall 2 m behind it, and the robot's drive
-// along that line facing the pane, 8 m long.
-SyntheticWorld paneWithWallBehindWorld() {
-  SyntheticWorld world;
-  world.addFramedPane({2.0, -3.0}, {2.0, 3.0});
-  world.addWall({4.0, -6.0}, {4.0, 6.0});
-  return world;
-}
-std::vector<ScenarioStep> driveAlongThePane() {
-  return driveBy({0.0, -4.0}, {0.0, 4.0}, kPi / 2);
-}
-
-// The scans of the drive along the pane; `sensors` lidars take turns, each at 40 Hz.
-std::vector<TimedScan> paneWithWallBehind(int sensors) {
-  const SyntheticWorld world = paneWithWallBehindWorld();
-  std::vector<TimedScan> scans;
-  for (const auto& step : driveAlongThePane()) {
-    scans.push_back(world.timedScan(step.robot, 0.025 / sensors * scans.size()));
-    scans.back().sensor_id = static_cast<uint32_t>(scans.size() % sensors);
-  }
-  return scans;
-}
-
 // A wall seen through a glass pane: once the pane is known, rays through it are reflections
 // and the wall behind does not enter the map from them.
 TEST(ReflectionRemoval, WallSeenThroughGlassIsAReflection) {
   const std::vector<TimedScan> scans = paneWithWallBehind(1);
   const BatchResult motion_only =
       processBatch(scans, testing::scenarioOptions(), BatchMode::kMotionRemoval);
-  EXPECT_EQ(count(motion_only.labels).reflection, 0u);
+  EXPECT_EQ(countLabels(motion_only.labels).reflection, 0u);
   // The search passes with every scan (as Alg. 3 reads) and with every Nth (the default).
   MapperOptions every_scan = testing::scenarioOptions();
   every_scan.reflection_removal.first_pass_scan_stride = 1;
@@ -131,7 +116,7 @@ TEST(ReflectionRemoval, WallSeenThroughGlassIsAReflection) {
       EXPECT_TRUE(full.timings.reflection_converged);
     }
     // Rays through the pane towards the wall: labelled reflection in full mode.
-    const LabelCounts with = count(full.labels);
+    const LabelCounts with = countLabels(full.labels);
     EXPECT_GT(with.reflection, 0.3 * (with.kept + with.reflection + with.motion));
     // The pane itself is kept.
     const GridGeometry g(0.05, 180);
@@ -149,72 +134,6 @@ TEST(ReflectionRemoval, WallSeenThroughGlassIsAReflection) {
               isObstacle(full.map.get(g.cellOf({4.0 - 1e-3, y})));
     }
     EXPECT_LT(wall, 0.1 * total);
-  }
-}
-
-TEST(ReflectionRemoval, EveryNthScanOfEachSensorKeepsEachSensorsOrder) {
-  std::vector<TimedScan> scans(10);
-  for (size_t i = 0; i < scans.size(); ++i) {
-    scans[i].sensor_id = static_cast<uint32_t>(i % 2);
-    scans[i].stamp = static_cast<double>(i);  // the scan's index
-  }
-  std::vector<double> indices;
-  for (const TimedScan* scan : everyNthScanOfEachSensor(scans, 3))
-    indices.push_back(scan->stamp);
-  // Sensor 0 has scans 0, 2, 4, 6, 8 (its 0th and 3rd: 0 and 6); sensor 1 has 1, 3, ... (1, 7).
-  EXPECT_EQ(indices, (std::vector<double>{0, 1, 6, 7}));
-  EXPECT_EQ(everyNthScanOfEachSensor(scans, 1).size(), scans.size());
-}
-
-// The batch classifies with batch_beta, not the live beta: with a batch_beta no cell can reach,
-// nothing is widely visible, whatever beta says.
-TEST(ReflectionRemoval, BatchClassifiesWithBatchBeta) {
-  const std::vector<TimedScan> scans = paneWithWallBehind(1);
-  auto static_cells = [&](const MapperOptions& options) {
-    const GlobalMap2D map = processBatch(scans, options, BatchMode::kMotionRemoval).map;
-    std::vector<CellClass> classes;
-    map.extract(map.bounds(), classes);
-    return std::count(classes.begin(), classes.end(), CellClass::kStatic);
-  };
-  MapperOptions unreachable_batch_beta = testing::scenarioOptions();
-  unreachable_batch_beta.occupancy.batch_beta = 10000.0;
-  EXPECT_EQ(static_cells(unreachable_batch_beta), 0);
-  MapperOptions unreachable_beta = testing::scenarioOptions();
-  unreachable_beta.occupancy.beta = 10000.0;
-  EXPECT_GT(static_cells(unreachable_beta), 50);  // the wall, the frames
-}
-
-// The batch's passes before the last take every Nth scan of each sensor, the last every scan:
-// the progress it reports counts the scans each pass inserted, then the labelled ones.
-TEST(ReflectionRemoval, SearchPassesInsertEveryNthScanAndTheLastEveryScan) {
-  const std::vector<TimedScan> scans = paneWithWallBehind(2);
-  const size_t n = scans.size();
-  auto per_pass = [&](int stride) { return everyNthScanOfEachSensor(scans, stride).size(); };
-  ASSERT_EQ(per_pass(8), (n / 2 + 7) / 8 + ((n + 1) / 2 + 7) / 8);
-
-  MapperOptions options = testing::scenarioOptions();
-  options.reflection_removal.first_pass_scan_stride = 8;
-  options.reflection_removal.search_pass_scan_stride = 2;
-  for (int iterations : {2, 5}) {
-    SCOPED_TRACE(iterations);
-    options.reflection_removal.max_reflection_iterations = iterations;
-    size_t last_done = 0, last_total = 0;
-    const BatchResult full =
-        processBatch(scans, options, BatchMode::kFull, [&](size_t done, size_t total) {
-          last_done = done;
-          last_total = total;
-        });
-    // Passes 0 (every 8th), 1 .. k-2 (every 2nd), k-1 (every scan), then the labelling. A
-    // search pass whose glass settled hands over to the last pass at once.
-    const int passes = full.timings.reflection_iterations;
-    ASSERT_GE(passes, 3);
-    EXPECT_LE(passes, iterations + 1);
-    EXPECT_EQ(last_done, last_total);
-    EXPECT_EQ(last_total, per_pass(8) + (passes - 2) * per_pass(2) + n + n);
-    if (iterations == 5) {
-      EXPECT_LT(passes, 6) << "the settled glass was searched again";
-    }
-    EXPECT_GT(count(full.labels).reflection, 0u);
   }
 }
 
@@ -243,35 +162,7 @@ TEST(ReflectionRemoval, MirrorImageIsRemoved) {
   };
   EXPECT_GT(obstacle_near_virtual_wall(basic.map), 20);
   EXPECT_EQ(obstacle_near_virtual_wall(full.map), 0);
-  EXPECT_GT(count(full.labels).reflection, 0u);
-}
-
-// Two parallel panes: the paper reports Alg. 3 may not converge. It must end, keeping both.
-TEST(ReflectionRemoval, TwoParallelPanesTerminateWithBothKept) {
-  SyntheticWorld world;
-  world.addFramedPane({2.0, -3.0}, {2.0, 3.0});
-  world.addFramedPane({3.5, -3.0}, {3.5, 3.0});
-  world.addWall({6.0, -6.0}, {6.0, 6.0});
-  std::vector<TimedScan> scans;
-  for (const auto& step : driveBy({0.0, -4.0}, {0.0, 4.0}, kPi / 2)) {
-    scans.push_back(world.timedScan(step.robot, 0.025 * scans.size()));
-  }
-  for (const auto& step : driveBy({5.0, 4.0}, {5.0, -4.0}, -kPi / 2)) {
-    scans.push_back(world.timedScan(step.robot, 0.025 * scans.size()));
-  }
-  MapperOptions options = testing::scenarioOptions();
-  options.reflection_removal.max_reflection_iterations = 6;
-  const BatchResult full = processBatch(scans, options, BatchMode::kFull);
-  EXPECT_LE(full.timings.reflection_iterations, 6);
-  const GridGeometry g(0.05, 180);
-  for (double x : {2.0, 3.5}) {
-    int kept = 0, total = 0;
-    for (double y = -2.8; y <= 2.8; y += 0.05, ++total) {
-      kept += isObstacle(full.map.get(g.cellOf({x + 1e-3, y}))) ||
-              isObstacle(full.map.get(g.cellOf({x - 1e-3, y})));
-    }
-    EXPECT_GT(kept, 0.9 * total) << "pane at x = " << x;
-  }
+  EXPECT_GT(countLabels(full.labels).reflection, 0u);
 }
 
 // A facade of framed panes that the robot faces only near a doorway: further along, every ray

@@ -67,5 +67,57 @@ inline double fractionAlong(const Mapper& mapper, const Eigen::Vector2d& a,
   return total == 0 ? 0.0 : static_cast<double>(accepted) / total;
 }
 
+// How many beams got each label.
+struct LabelCounts {
+  size_t kept = 0, motion = 0, reflection = 0, no_return = 0;
+};
+
+inline LabelCounts countLabels(const std::vector<std::vector<RayLabel>>& labels) {
+  LabelCounts c;
+  for (const auto& scan : labels) {
+    for (RayLabel l : scan) {
+      c.kept += l == RayLabel::kKept;
+      c.motion += l == RayLabel::kMotion;
+      c.reflection += l == RayLabel::kReflection;
+      c.no_return += l == RayLabel::kNoReturn;
+    }
+  }
+  return c;
+}
+
+// A room 8 m x 6 m with a framed pane across its west half, parallel to the robot's paths.
+inline SyntheticWorld roomWithPane() {
+  SyntheticWorld world;
+  world.addWall({-4.0, -3.0}, {4.0, -3.0});
+  world.addWall({4.0, -3.0}, {4.0, 3.0});
+  world.addWall({4.0, 3.0}, {-4.0, 3.0});
+  world.addWall({-4.0, 3.0}, {-4.0, -3.0});
+  world.addFramedPane({-3.0, 0.0}, {0.0, 0.0});  // parallel to the robot's paths
+  return world;
+}
+
+// A framed glass pane 2 m from the line x = 0 with a wall 2 m behind it, and the robot's drive
+// along that line facing the pane, 8 m long.
+inline SyntheticWorld paneWithWallBehindWorld() {
+  SyntheticWorld world;
+  world.addFramedPane({2.0, -3.0}, {2.0, 3.0});
+  world.addWall({4.0, -6.0}, {4.0, 6.0});
+  return world;
+}
+inline std::vector<ScenarioStep> driveAlongThePane() {
+  return driveBy({0.0, -4.0}, {0.0, 4.0}, kPi / 2);
+}
+
+// The scans of the drive along the pane; `sensors` lidars take turns, each at 40 Hz.
+inline std::vector<TimedScan> paneWithWallBehind(int sensors) {
+  const SyntheticWorld world = paneWithWallBehindWorld();
+  std::vector<TimedScan> scans;
+  for (const auto& step : driveAlongThePane()) {
+    scans.push_back(world.timedScan(step.robot, 0.025 / sensors * scans.size()));
+    scans.back().sensor_id = static_cast<uint32_t>(scans.size() % sensors);
+  }
+  return scans;
+}
+
 }  // namespace testing
 }  // namespace rfm

@@ -20,6 +20,11 @@ inline bool isObstacle(CellClass c) {
          c == CellClass::kOccupied;
 }
 
+// Cells a ray cannot pass through without its return being untrustworthy (Alg. 3).
+inline bool blocksRays(CellClass c) {
+  return c == CellClass::kGlass || c == CellClass::kMetal || c == CellClass::kStatic;
+}
+
 // Free or unknown: nothing a ray could stop at.
 inline bool isEmptySpace(CellClass c) {
   return c == CellClass::kFree || c == CellClass::kUnknown;

@@ -1,5 +1,6 @@
 #pragma once
 
+#include "reflectance_field_map/core/detail/compiler.h"
 #include "reflectance_field_map/core/grid_geometry.h"
 #include "reflectance_field_map/core/laser_scan.h"
 #include "reflectance_field_map/core/rolling_window.h"
@@ -19,7 +20,7 @@ namespace rfm {
 // a 5 cm cell apart for the first 11 m, so walking each ray on its own visits a cell of a
 // theta bin's fan about three times. Sweeping the fan column by column along its major axis
 // visits the union of its rays' cells, mostly once each.
-namespace fan_detail {
+namespace detail {
 
 constexpr int kMaxFanRays = 32;
 
@@ -62,7 +63,7 @@ inline int64_t rawExit(const FanRay& ray, int column) {
 // A visit to a cell of the joined columns: once(slot) where the sweep knows it is the cell's only
 // visit (see visitCellsOfRays), else the visitor's stamped visit.
 template <bool kJoinedOnce, typename Visit>
-__attribute__((always_inline)) inline void visitJoinedCell(Visit& visit, int slot) {
+RFM_ALWAYS_INLINE inline void visitJoinedCell(Visit& visit, int slot) {
   if constexpr (kJoinedOnce) {
     visit.once(slot);
   } else {
@@ -133,9 +134,8 @@ inline bool joinedRun(const FanRay& a, const FanRay& b, int begin, int end, Join
 // The joined columns of a JoinedRun: columns[0], columns[step], ... (`count` of them) of the
 // column offsets, rows[row] the row offsets.
 template <bool kJoinedOnce, typename Visit>
-__attribute__((always_inline)) inline void sweepJoinedRun(const int* columns, int step, int count,
-                                                          const int* rows, JoinedRun run,
-                                                          Visit& visit) {
+RFM_ALWAYS_INLINE inline void sweepJoinedRun(const int* columns, int step, int count,
+                                             const int* rows, JoinedRun run, Visit& visit) {
   for (; count > 0; --count, columns += step) {
     const int column_offset = *columns;
     const int* const run_end = rows + (run.high >> kFractionBits);
@@ -149,23 +149,22 @@ __attribute__((always_inline)) inline void sweepJoinedRun(const int* columns, in
 // Always inlined: the caller's visitor then stays a local that no pointer reaches, so its state
 // lives in registers even though a visitor's byte stores may alias any memory.
 template <int kMajor, bool kJoinedOnce, typename Visit>
-__attribute__((always_inline)) inline void sweepFan(int column0, int row0, int step, FanRay* fan,
-                                                    int count, const RollingWindow& window,
-                                                    Visit& visit) {
+RFM_ALWAYS_INLINE inline void sweepFan(int column0, int row0, int step, FanRay* fan, int count,
+                                       const RollingWindow& window, Visit& visit) {
   // Rays lie inside the window, where the offset tables wrap rows and columns around storage.
   const int* const column_offsets = kMajor == 0 ? window.columnOffsets() : window.rowOffsets();
   const int* const row_offsets = kMajor == 0 ? window.rowOffsets() : window.columnOffsets();
   const CellIndex& offset_origin = window.offsetOrigin();
   const int row_shift = -offset_origin[1 - kMajor];    // cell row -> index of row_offsets
   int column_index = column0 - offset_origin[kMajor];  // index of column_offsets
-  auto visit_rows = [&](int low, int high) __attribute__((always_inline)) {
+  auto visit_rows = [&](int low, int high) RFM_ALWAYS_INLINE {
     const int column_offset = column_offsets[column_index];
     for (int r = low + row_shift; r <= high + row_shift; ++r)
       visit(column_offset + row_offsets[r]);
   };
   // The joined columns' runs: each cell once, and no ray ends there. A loop of its own: folded
   // into visit_rows behind a flag, the sweep ran slower (paired ratio 1.24 -> 1.31).
-  auto visit_joined_rows = [&](int low, int high) __attribute__((always_inline)) {
+  auto visit_joined_rows = [&](int low, int high) RFM_ALWAYS_INLINE {
     const int column_offset = column_offsets[column_index];
     for (int r = low + row_shift; r <= high + row_shift; ++r)
       visitJoinedCell<kJoinedOnce>(visit, column_offset + row_offsets[r]);
@@ -217,7 +216,7 @@ __attribute__((always_inline)) inline void sweepFan(int column0, int row0, int s
       const FanRay& first = fan[active[0]];
       const FanRay& last = fan[active[active_count - 1]];
       int first_row = entry_row(first, column), last_row = entry_row(last, column);
-      auto visit_joined_column = [&]() __attribute__((always_inline)) {
+      auto visit_joined_column = [&]() RFM_ALWAYS_INLINE {
         const int first_exit = exitRow(first, column), last_exit = exitRow(last, column);
         visit_joined_rows(std::min(std::min(first_row, first_exit), std::min(last_row, last_exit)),
                           std::max(std::max(first_row, first_exit), std::max(last_row, last_exit)));
@@ -274,7 +273,7 @@ __attribute__((always_inline)) inline void sweepFan(int column0, int row0, int s
   }
 }
 
-}  // namespace fan_detail
+}  // namespace detail
 
 // Visits every cell that walkWindowCells visits for each of the rays rays[order[k]],
 // k in [0, count), end cells included, in no particular order; a cell may be visited more than
@@ -290,8 +289,8 @@ __attribute__((always_inline)) inline void sweepFan(int column0, int row0, int s
 template <typename Visit>
 Visit visitCellsOfRays(const std::vector<Ray>& rays, const uint32_t* order, size_t count,
                        double inverse_resolution, const RollingWindow& window, Visit visit) {
-  using fan_detail::FanRay;
-  FanRay fan[fan_detail::kMaxFanRays];
+  using detail::FanRay;
+  FanRay fan[detail::kMaxFanRays];
   size_t k = 0;
   while (k < count) {
     // Grow a fan from ray k while the rays share origin, major axis, direction and slope order.
@@ -310,7 +309,7 @@ Visit visitCellsOfRays(const std::vector<Ray>& rays, const uint32_t* order, size
     int count_in_fan = 0;
     int slope_order = 0;  // +1 ascending, -1 descending, 0 not yet known
     double previous_slope = 0.0;
-    for (; k < count && count_in_fan < fan_detail::kMaxFanRays; ++k) {
+    for (; k < count && count_in_fan < detail::kMaxFanRays; ++k) {
       const Ray& ray = rays[order[k]];
       const Eigen::Vector2d delta = ray.end - ray.origin;
       if (ray.origin != head.origin ||
@@ -329,8 +328,8 @@ Visit visitCellsOfRays(const std::vector<Ray>& rays, const uint32_t* order, size
       }
       previous_slope = slope;
       FanRay& entry = fan[count_in_fan++];
-      entry.first_exit = fan_detail::toFixed(start[minor] + first_edge * slope);
-      entry.per_column = fan_detail::toFixed(step * slope);
+      entry.first_exit = detail::toFixed(start[minor] + first_edge * slope);
+      entry.per_column = detail::toFixed(step * slope);
       const bool descending = end_minor < start[minor];
       entry.tie_bias = descending == (major == 0) ? 1 : 0;
       entry.columns = std::abs(floorToInt(end_major) - column0);
@@ -341,20 +340,20 @@ Visit visitCellsOfRays(const std::vector<Ray>& rays, const uint32_t* order, size
     // A fan holding every ray of the call is the only one to visit the cells of its joined
     // columns, and no ray ends there: a visitor that offers once(slot) skips its
     // de-duplication for them.
-    if constexpr (fan_detail::HasOnce<Visit>::value) {
+    if constexpr (detail::HasOnce<Visit>::value) {
       if (k == count && k == static_cast<size_t>(count_in_fan)) {
         if (major == 0) {
-          fan_detail::sweepFan<0, true>(column0, row0, step, fan, count_in_fan, window, visit);
+          detail::sweepFan<0, true>(column0, row0, step, fan, count_in_fan, window, visit);
         } else {
-          fan_detail::sweepFan<1, true>(column0, row0, step, fan, count_in_fan, window, visit);
+          detail::sweepFan<1, true>(column0, row0, step, fan, count_in_fan, window, visit);
         }
         continue;
       }
     }
     if (major == 0) {
-      fan_detail::sweepFan<0, false>(column0, row0, step, fan, count_in_fan, window, visit);
+      detail::sweepFan<0, false>(column0, row0, step, fan, count_in_fan, window, visit);
     } else {
-      fan_detail::sweepFan<1, false>(column0, row0, step, fan, count_in_fan, window, visit);
+      detail::sweepFan<1, false>(column0, row0, step, fan, count_in_fan, window, visit);
     }
   }
   return visit;

@@ -1,5 +1,6 @@
 #pragma once
 
+#include "reflectance_field_map/core/active_classes.h"
 #include "reflectance_field_map/core/cell_class.h"
 #include "reflectance_field_map/core/grid_geometry.h"
 #include "reflectance_field_map/core/reflectance_field.h"
@@ -12,14 +13,13 @@ namespace rfm {
 
 // The directions in which the static cells of the active region reflected at one moment, kept
 // while the field is rebuilt: the glass check of a batch re-processing pass reads them
-// (Mapper::restartEvidence), so it depends on no scan of the pass.
+// (ReflectionRemover::freeze), so it depends on no scan of the pass.
 class FrozenReflectivity {
  public:
   bool active() const { return active_; }
 
-  // Copies the reflective masks of the window's cells whose class (`classes`, by storage
-  // index) is static, and becomes active.
-  void freeze(const ReflectanceField& field, const std::vector<CellClass>& classes);
+  // Copies the reflective masks of the window's cells whose class is static, and becomes active.
+  void freeze(const ReflectanceField& field, const ActiveClasses& classes);
 
   // The cell's mask words as frozen; null for cells that were not static then.
   const uint64_t* maskOf(const CellIndex& cell) const {

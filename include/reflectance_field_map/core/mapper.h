@@ -1,3 +1,4 @@
+// The mapper that the node, the nodelet and the offline tool drive: the paper's steps in order.
 #pragma once
 
 #include "reflectance_field_map/core/cell_class.h"
@@ -6,7 +7,6 @@
 #include "reflectance_field_map/core/motion_removal.h"
 #include "reflectance_field_map/core/options.h"
 #include "reflectance_field_map/core/reflectance_field.h"
-#include "reflectance_field_map/core/scan_inserter.h"
 
 #include <Eigen/Core>
 
@@ -19,7 +19,7 @@
 
 namespace rfm {
 
-class PassThroughDetector;
+class AnchorHistory;
 
 // One scan with the poses it was taken from, in the fixed frame (REP-105: odom or map).
 struct TimedScan {
@@ -74,8 +74,8 @@ class Mapper {
 
   const MapperOptions& options() const { return options_; }
 
-  // Re-centres the active region on the robot, checks the rays against known glass
-  // (reflection removal, Alg. 3) and inserts the rest (Alg. 1).
+  // Re-centres the active region on the robot, cuts the rays at known glass (reflection
+  // removal, Alg. 3) and inserts them (Alg. 1).
   ScanUpdate addScan(const TimedScan& scan);
 
   // addScan on each scan in turn, with the same result, for a batch: scans between window moves
@@ -89,8 +89,9 @@ class Mapper {
   // a batch holds a whole recording in one window (reset() does not undo it).
   void holdActiveRegionAt(const Eigen::Vector2d& centre);
 
-  // Motion removal (Alg. 2) over the active region, then writes the region's classes into the
-  // global map. When new glass appears, buffered scans are re-processed against it.
+  // Motion removal (Alg. 2) over the active region, glass completion, then writes the region's
+  // classes into the global map. When new glass appears, the buffered scans' evidence beyond it
+  // is taken back (online Alg. 3).
   MotionRemovalSummary removeMotion();
 
   // Classes of the explored map (global, survives the active region moving on).
@@ -100,14 +101,15 @@ class Mapper {
   // Hands the map over (the mapper's map is empty afterwards).
   GlobalMap2D releaseMap() { return std::exchange(map_, GlobalMap2D()); }
   const ReflectanceField& field() const { return field_; }
+  const AnchorHistory& anchorHistory() const;
   // Class of a cell: from the active region when inside it, else from the global map.
   CellClass cellClass(const CellIndex& cell) const;
 
-  // Per-beam labels of a scan against the current map (paper Sec. VI-A): NO_RETURN, KEPT when
-  // the endpoint cell is an obstacle and the ray did not pass through glass first, REFLECTION
-  // when it did, MOTION when the endpoint is motion. With `final_map` an endpoint whose evidence
-  // did not survive (free or unknown) is removed as MOTION too; live, it is kept until motion
-  // removal has judged it.
+  // Per-beam labels of a scan against the current map (paper Sec. VI-A, labelRays): NO_RETURN,
+  // KEPT when the endpoint cell is an obstacle and the ray did not pass through glass first,
+  // REFLECTION when it did, MOTION when the endpoint is motion. With `final_map` an endpoint
+  // whose evidence did not survive (free or unknown) is removed as MOTION too; live, it is kept
+  // until motion removal has judged it.
   std::vector<RayLabel> labelScan(const TimedScan& scan, bool final_map = false) const;
   // labelScan of a scan just added (live), with `update` its addScan result: a beam the
   // insertion cut at glass is REFLECTION whatever the map says now.
@@ -119,9 +121,8 @@ class Mapper {
   // Discards all reflectance evidence but keeps the current classes, so the next scans are
   // checked against the glass found so far (batch re-processing, Alg. 3 step 2). Until the next
   // removeMotion(), that check reads the directions the active region's static cells reflected
-  // in as they are now (the batch keeps a whole recording in its region), not as the evidence
-  // being rebuilt has them: it then depends on no scan before, so addScans still inserts scans
-  // in groups.
+  // in as they are now (ReflectionRemover::freeze): it then depends on no scan before, so
+  // addScans still inserts scans in groups.
   void restartEvidence();
 
   void reset();
@@ -133,44 +134,24 @@ class Mapper {
 
  private:
   struct Impl;
-  void revertEvidenceBehindGlass(const CellBox& new_glass);
-  void undo(const BinUpdate& update);
-  void redo(const BinUpdate& update);
-  // addScan up to the insertion, in steps: placeScan validates the scan and re-centres the
-  // window on the robot; makeRays makes its rays and clips them to the window; cutAtGlass cuts
-  // them at known glass (on `runner`'s threads) and returns how many it cut. finishScan does
-  // what follows the insertion: countScan (a persistence tick when due) and keepInsertedRays
-  // (statistics, the buffer for online re-processing), which addScans calls apart because it
-  // inserts a group's rays after counting its scans. makeRays and cutAtGlass only read the mapper.
+  // The steps of addScan before the insertion: placeScan validates the scan and re-centres the
+  // window on the robot; makeRays makes its rays within the active region. finishScan does what
+  // follows the insertion: countScan (a persistence tick when due) and keepInsertedRays
+  // (statistics, the scans kept for online re-processing), which addScans calls apart because it
+  // inserts a group's rays after counting its scans.
   ScanUpdate placeScan(const TimedScan& scan);
-  // Where the active region is centred for `scan`: on its robot, unless held elsewhere.
   const Eigen::Vector2d& regionCentre(const TimedScan& scan) const;
   void makeRays(const TimedScan& scan, std::vector<Ray>& rays, ScanUpdate& update) const;
-  size_t cutAtGlass(std::vector<Ray>& rays, ScanUpdate& update, ParallelRunner* runner) const;
-  bool checksGlass() const;
   void finishScan(const TimedScan& scan, const std::vector<Ray>& rays, const ScanUpdate& update);
   void countScan(double stamp);
   void keepInsertedRays(const TimedScan& scan, const std::vector<Ray>& rays);
   bool tickDue(double stamp) const;
-  void tickPersistenceIfDue(double stamp);
-  // Recomputes the clearance of the window's classes (after they changed).
-  void updateClearance();
-  // Limits rays to the active-region radius around their sensor and to the window (the walks
-  // below need rays inside it); a ray cut short loses its hit.
-  void clipToActiveRegion(std::vector<Ray>& rays) const;
-  // Alg. 3 check of a ray inside the window against the current classes (PassThroughDetector):
-  // the distance along it of the blocking cell it passes through, or negative.
-  double passThroughDistance(const Ray& ray) const;
-  // The check of `count` rays, written to distances[0, count).
-  void passThroughDistances(const Ray* rays, size_t count, double* distances) const;
-  // The check of one ray from `from` m along it on, leaping where the clearance allows by
-  // `leap_unit` m per cell of clearance (leapPerCell).
-  double walkTowardsGlass(const Ray& ray, PassThroughDetector& detector, double from,
-                          double leap_unit) const;
-  // Cuts a ray that passes through glass just past it (false if it passes none).
-  bool truncateAtGlass(Ray& ray) const;
-  // Cuts a ray `along` m from its origin, where the check found glass (false if negative).
-  bool cutAtDistance(double along, Ray& ray) const;
+  // The steps of removeMotion: the region's classes (motion removal or the plain eq. 5
+  // projection, then glass completion), and their copy into the global map.
+  void classifyRegion(MotionRemovalSummary& summary);
+  void writeRegionToMap();
+  // What reset() and load() start afresh besides the field and the map.
+  void forgetDerivedState();
 
   MapperOptions options_;
   ReflectanceField field_;

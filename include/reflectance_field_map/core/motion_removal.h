@@ -1,5 +1,6 @@
 #pragma once
 
+#include "reflectance_field_map/core/anchor_history.h"
 #include "reflectance_field_map/core/cell_class.h"
 #include "reflectance_field_map/core/occupancy.h"
 #include "reflectance_field_map/core/parallel_runner.h"
@@ -20,36 +21,13 @@ struct MotionRemovalCounts {
   size_t free_cells = 0;
 };
 
-// How the anchors of Alg. 2 are extended beyond the paper's widely visible cells, in the units
-// the field counts in (ticks of the persistence clock, cells, theta bins). 0 switches a rule off.
-struct AnchorRules {
-  // Cells confirmed for this many persistence ticks anchor their component too
-  // (ReflectanceField::confirmedTicksAt): a sensor that does not move sees walls from one side.
-  int persistence_ticks = 0;
-  // ... but only components at least this long (bounding box side, in cells): a person
-  // standing still is smaller than structure.
-  int persistence_min_cells = 0;
-  // Widely visible or confirmed cells with this many contradicted bins
-  // (ReflectanceField::contradictedBinsAt) anchor nothing: what stood there has left.
-  int departure_min_bins = 0;
-  // Nor do those vacant for this many ticks (ReflectanceField::vacantTicksAt): seen through
-  // from new directions and hit by nothing, as when the robot looks back at where a person
-  // stood from directions it never saw them from.
-  int departure_vacant_ticks = 0;
-  // Cells reflective in at least this many bins and never seen through (no missed bin) anchor
-  // components at least `opaque_min_cells` long: an opaque surface glimpsed through a doorway
-  // is neither widely visible nor long confirmed, but nothing ever passed through it.
-  int opaque_min_bins = 0;
-  int opaque_min_cells = 0;
-};
-
 // Motion removal (Alg. 2). Nodes are runs of contiguous reflective bins of one cell (theta
 // wraps around); two runs of 8-neighbouring cells are connected when their bins are within one
 // bin of each other, which is 26-connectivity in (x, y, theta). Components are found with an
 // iterative union-find. A component touching a widely visible cell (eq. 7), a known obstacle
-// just outside the box, or a cell that AnchorRules let anchor (long confirmed, never seen
-// through) is a static structure: its cells are static (widely visible) or glass/metal; any
-// other component is motion. Cells that departed (AnchorRules) anchor nothing.
+// just outside the box, or a cell that the anchor rules let anchor (AnchorHistory: long
+// confirmed, never seen through) is a static structure: its cells are static (widely visible) or
+// glass/metal; any other component is motion. Cells that departed (AnchorHistory) anchor nothing.
 class MotionRemover {
  public:
   explicit MotionRemover(const OccupancyRule& rule, const AnchorRules& anchors = AnchorRules())
@@ -64,7 +42,9 @@ class MotionRemover {
   // Only tiles holding reflective cells take part in components; the other tiles' cells are
   // free or unknown, and those whose field tile did not change since the previous call on the
   // same field are copied from it (ReflectanceField::tileVersion), not recomputed.
-  MotionRemovalCounts classify(const ReflectanceField& field, const CellBox& box,
+  // `history` is the one kept of the field's cells (AnchorHistory::tick with anchors()).
+  MotionRemovalCounts classify(const ReflectanceField& field, const AnchorHistory& history,
+                               const CellBox& box,
                                const std::function<CellClass(const CellIndex&)>& outside,
                                std::vector<CellClass>& classes, ParallelRunner* runner = nullptr);
 
@@ -90,8 +70,8 @@ class MotionRemover {
   };
   void collectRuns(const ReflectanceField& field, const CellBox& box, const Band& band,
                    std::vector<Run>& runs);
-  void joinBand(const ReflectanceField& field, const CellBox& box, const Band& band,
-                const std::function<CellClass(const CellIndex&)>& outside);
+  void joinBand(const ReflectanceField& field, const AnchorHistory& history, const CellBox& box,
+                const Band& band, const std::function<CellClass(const CellIndex&)>& outside);
   // Unites the runs of row `row` with those of the next row (the border between two bands).
   void joinRows(const CellBox& box, int row, int bins);
   void uniteNeighbour(size_t local, size_t n_local, int bins);
@@ -107,12 +87,6 @@ class MotionRemover {
   size_t boxTileOf(int x, int y) const {
     return static_cast<size_t>(floorDiv(y, tile_cells_) - first_tile_.y()) * box_tiles_x_ +
            (floorDiv(x, tile_cells_) - first_tile_.x());
-  }
-
-  // Component extents are needed only by the rules with a minimum length.
-  bool tracksExtents() const {
-    return anchors_.persistence_min_cells > 0 ||
-           (anchors_.opaque_min_bins > 0 && anchors_.opaque_min_cells > 0);
   }
 
   OccupancyRule rule_;

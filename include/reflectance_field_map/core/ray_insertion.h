@@ -1,5 +1,6 @@
 #pragma once
 
+#include "reflectance_field_map/core/detail/compiler.h"
 #include "reflectance_field_map/core/fan_traversal.h"
 #include "reflectance_field_map/core/grid_geometry.h"
 #include "reflectance_field_map/core/laser_scan.h"
@@ -49,6 +50,11 @@ inline void clipRayToLength(double max_length, Ray& ray) {
   }
 }
 
+// Limits rays to `radius` around their origin (evidence only within the active-region radius of
+// the sensor, live and in batch alike) and to `box` (the walks after need rays inside it);
+// rays with nothing inside are dropped, and a ray cut short loses its hit.
+void clipRaysToRegion(const CellBox& box, double resolution, double radius, std::vector<Ray>& rays);
+
 // The per-scan update rule shared by the RFM and the plain grid (Alg. 1): every ray adds misses
 // to the cells it passes and a hit to its end cell; within one scan each storage slot of a
 // group is updated at most once and a hit wins over a miss (hits are applied first and stamp
@@ -85,50 +91,7 @@ class alignas(64) DeduplicatingRayInserter {
   size_t updates_ = 0;
 };
 
-// Walks a ray's cells, in order, as window storage slots with everything in registers
-// (the generic GridRayTraversal keeps per-axis arrays, which costs a store-to-load round trip per
-// step). Same cells, same order, same drift guard as GridRayTraversal. Calls
-// visit(slot, cell_x, cell_y) for each cell up to the end cell (included when `include_end`);
-// the walk stops early when visit returns false. The ray must lie inside the window.
-template <typename Visit>
-inline void walkWindowCells(const Eigen::Vector2d& start, const Eigen::Vector2d& end,
-                            double inverse_resolution, const RollingWindow& window,
-                            bool include_end, Visit&& visit) {
-  const double fx = start.x() * inverse_resolution, fy = start.y() * inverse_resolution;
-  const double ex = end.x() * inverse_resolution, ey = end.y() * inverse_resolution;
-  int cx = floorToInt(fx), cy = floorToInt(fy);
-  const double dx = ex - fx, dy = ey - fy;
-  int remaining_x = std::abs(floorToInt(ex) - cx);
-  int remaining_y = std::abs(floorToInt(ey) - cy);
-  const int step_x = dx > 0 ? 1 : -1, step_y = dy > 0 ? 1 : -1;
-  const double inf = std::numeric_limits<double>::infinity();
-  double t_max_x = dx == 0.0 ? inf : ((step_x > 0 ? cx + 1.0 : cx) - fx) / dx;
-  double t_max_y = dy == 0.0 ? inf : ((step_y > 0 ? cy + 1.0 : cy) - fy) / dy;
-  const double t_delta_x = dx == 0.0 ? inf : std::abs(1.0 / dx);
-  const double t_delta_y = dy == 0.0 ? inf : std::abs(1.0 / dy);
-  // Indices into the offset tables, which wrap the ray (inside the window) around storage.
-  int x = cx - window.offsetOrigin().x(), y = cy - window.offsetOrigin().y();
-  const int* const column_offsets = window.columnOffsets();
-  const int* const row_offsets = window.rowOffsets();
-  int cells = remaining_x + remaining_y + (include_end ? 1 : 0);
-  while (cells-- > 0) {
-    if (!visit(column_offsets[x] + row_offsets[y], cx, cy)) return;
-    // Parametric choice, overruled when that axis has no steps left (drift guard).
-    if (t_max_x < t_max_y ? remaining_x > 0 : remaining_y == 0) {
-      t_max_x += t_delta_x;
-      --remaining_x;
-      cx += step_x;
-      x += step_x;
-    } else {
-      t_max_y += t_delta_y;
-      --remaining_y;
-      cy += step_y;
-      y += step_y;
-    }
-  }
-}
-
-namespace insertion_detail {
+namespace detail {
 
 // Adds a miss to each slot not yet stamped, counting them if kCount. Holds everything by value:
 // byte stores may alias any memory, so state reached through pointers or references would be
@@ -139,7 +102,7 @@ struct MissWriter {
   uint16_t stamp;
   Writer writer;
   size_t updates = 0;
-  __attribute__((always_inline)) void operator()(int slot) {
+  RFM_ALWAYS_INLINE void operator()(int slot) {
     if (stamps[slot] != stamp) {
       stamps[slot] = stamp;
       writer.miss(slot);
@@ -152,7 +115,7 @@ struct MissWriter {
 // and that end no ray (visitCellsOfRays) take their miss without a stamp.
 template <typename Writer, bool kCount>
 struct FanMissWriter : MissWriter<Writer, kCount> {
-  __attribute__((always_inline)) void once(int slot) {
+  RFM_ALWAYS_INLINE void once(int slot) {
     this->writer.miss(slot);
     if constexpr (kCount) ++this->updates;
   }
@@ -170,7 +133,7 @@ template <typename Target>
 struct CountsUpdates<Target, std::void_t<decltype(Target::kCountsUpdates)>>
     : std::bool_constant<Target::kCountsUpdates> {};
 
-}  // namespace insertion_detail
+}  // namespace detail
 
 template <typename Target>
 void DeduplicatingRayInserter::insert(const RollingWindow& window, double inverse_resolution,
@@ -180,7 +143,7 @@ void DeduplicatingRayInserter::insert(const RollingWindow& window, double invers
                                       size_t first_group, size_t end_group) {
   const int size = window.sizeCells();
   prepare(static_cast<size_t>(size) * size);
-  constexpr bool kCount = insertion_detail::CountsUpdates<Target>::value;
+  constexpr bool kCount = detail::CountsUpdates<Target>::value;
   size_t updates = 0;
   uint16_t* const stamps = stamps_.data();
   end_group = std::min(end_group, group_begin.size() - 1);
@@ -201,9 +164,9 @@ void DeduplicatingRayInserter::insert(const RollingWindow& window, double invers
     }
     // Misses on every cell of the group's rays. A hit ray's end cell holds its hit: stamped
     // above, so the sweep (which covers end cells) passes over it.
-    using Misses = std::conditional_t<insertion_detail::OneFanPerGroup<Target>::value,
-                                      insertion_detail::FanMissWriter<decltype(writer), kCount>,
-                                      insertion_detail::MissWriter<decltype(writer), kCount>>;
+    using Misses = std::conditional_t<detail::OneFanPerGroup<Target>::value,
+                                      detail::FanMissWriter<decltype(writer), kCount>,
+                                      detail::MissWriter<decltype(writer), kCount>>;
     const Misses misses = visitCellsOfRays(rays, &order[begin], end - begin, inverse_resolution,
                                            window, Misses{stamps, stamp, writer});
     updates += misses.updates;

@@ -8,14 +8,18 @@
 #include "reflectance_field_map/core/tile_archive.h"
 #include "reflectance_field_map/core/zeroed_huge_array.h"
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <iosfwd>
-#include <limits>
-#include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace rfm {
+
+namespace detail {
+class SliceWriter;
+}  // namespace detail
 
 // Bit `bin` of a cell's reflective mask (ReflectanceField::reflectiveMaskAt): 64 bins a word.
 inline bool maskBit(const uint64_t* mask, int bin) {
@@ -109,93 +113,9 @@ class ReflectanceField {
     std::vector<uint8_t> touched;  // by storage tile: `missed` holds a change there
   };
 
-  // Writes one theta slice with everything it needs held locally: int8 stores may alias any
-  // member, so going through `this` would reload them after every update.
-  // Writers of different slices may run concurrently when each defers its summary changes to
-  // its own lists, applied afterwards by applySummaryChanges.
-  class SliceWriter {
-   public:
-    __attribute__((always_inline)) void hit(int slot) {
-      int8_t& v = bins_[slot];
-      const int old = v;
-      const int updated = old + hit_step_ > max_ ? max_ : old + hit_step_;
-      v = static_cast<int8_t>(updated);
-      // Every writer stores the same 1: relaxed atomic, so concurrent writers are well defined.
-      if (!__atomic_load_n(&hit_flags_[slot], __ATOMIC_RELAXED)) {
-        __atomic_store_n(&hit_flags_[slot], uint8_t{1}, __ATOMIC_RELAXED);
-        __atomic_store_n(&tick_pending_[slot >> tile_slot_shift_], uint8_t{1}, __ATOMIC_RELAXED);
-      }
-      // Only a bin in [-hit_step, 0] reaches or crosses the prior (p = 0.5) on a hit: one test.
-      if (static_cast<unsigned>(old + hit_step_) <= static_cast<unsigned>(hit_step_)) {
-        change(slot, old <= 0 && updated > 0, old < 0 && updated >= 0 ? -1 : 0);
-      }
-    }
-    __attribute__((always_inline)) void miss(int slot) {
-      int8_t& v = bins_[slot];
-      const int old = v;
-      const int updated = old + miss_step_ < min_ ? min_ : old + miss_step_;
-      v = static_cast<int8_t>(updated);
-      // Only a bin in [0, -miss_step] reaches or crosses the prior on a miss: one test.
-      if (static_cast<unsigned>(old) <= static_cast<unsigned>(-miss_step_)) {
-        change(slot, old > 0 && updated <= 0 ? -1 : 0, old >= 0 && updated < 0);
-      }
-    }
-
-   private:
-    friend class ReflectanceField;
-    // Called only for a change: every value in the ranges tested above crosses or reaches 0.
-    // Inlined: left to itself the compiler called it through the PLT, 5 % of a pass's instructions.
-    __attribute__((always_inline)) void change(int slot, int reflective, int missed) {
-      if (deferred_) {
-        if (missed != 0) {
-          missed_sums_[slot] += static_cast<uint16_t>(missed);
-          touched_tiles_[slot >> tile_slot_shift_] = 1;
-        }
-        if (reflective != 0) {
-          deferred_[(slot >> tile_slot_shift_) & part_mask_].push_back(
-              {slot, static_cast<int16_t>(bin_), static_cast<int8_t>(reflective)});
-        }
-      } else {
-        field_->applySummaryChange(slot, bin_, reflective, missed);
-      }
-    }
-    int8_t* bins_;
-    uint8_t* hit_flags_;
-    uint8_t* tick_pending_;
-    ReflectanceField* field_;
-    std::vector<SummaryChange>* deferred_;  // DeferredSummaries::lists, or null
-    uint16_t* missed_sums_;                 // DeferredSummaries::missed, when deferred_ is set
-    uint8_t* touched_tiles_;                // DeferredSummaries::touched, when deferred_ is set
-    int tile_slot_shift_, part_mask_;
-    int bin_, hit_step_, miss_step_, min_, max_;
-  };
-  // With `deferred` set, summary changes are appended there instead of applied.
-  SliceWriter sliceWriter(int bin, DeferredSummaries* deferred = nullptr) {
-    SliceWriter w;
-    w.bins_ = &bins_[static_cast<size_t>(bin) * plane_];
-    w.hit_flags_ = hit_since_tick_.data();
-    w.tick_pending_ = tick_pending_.data();
-    w.field_ = this;
-    w.deferred_ = deferred ? deferred->lists.data() : nullptr;
-    w.missed_sums_ = nullptr;
-    w.touched_tiles_ = nullptr;
-    if (deferred) {
-      if (deferred->missed.size() != plane_) {
-        deferred->missed.assign(plane_, 0);
-        deferred->touched.assign(window_.storageTiles(), 0);
-      }
-      w.missed_sums_ = deferred->missed.data();
-      w.touched_tiles_ = deferred->touched.data();
-    }
-    w.tile_slot_shift_ = window_.tileSlotShift();
-    w.part_mask_ = deferred ? deferred->parts - 1 : 0;
-    w.bin_ = bin;
-    w.hit_step_ = log_odds_.hitStep();
-    w.miss_step_ = log_odds_.missStep();
-    w.min_ = log_odds_.minValue();
-    w.max_ = log_odds_.maxValue();
-    return w;
-  }
+  // Writes one theta slice (detail/slice_writer.h, where it is defined). With `deferred` set,
+  // summary changes are appended there instead of applied.
+  detail::SliceWriter sliceWriter(int bin, DeferredSummaries* deferred = nullptr);
   // Applies the writers' deferred changes, the lists of each part (and the sums of its tiles) on
   // one of the runner's threads when there are enough to share (all writers with the same number
   // of parts), and empties the writers' sums. Each bin must have had one writer, so that its
@@ -240,7 +160,6 @@ class ReflectanceField {
     return &reflective_masks_[static_cast<size_t>(storage_index) * mask_words_];
   }
   int missedBinsAt(int storage_index) const { return missed_bins_[storage_index]; }
-  int confirmedTicksAt(int storage_index) const { return confirmed_ticks_[storage_index]; }
   double marginalOddsAt(int storage_index) const;
   // The part of marginalOddsAt's sum (without the bin width) from the reflective bins alone.
   double reflectiveOddsAt(int storage_index) const;
@@ -252,34 +171,21 @@ class ReflectanceField {
   bool isReflective(const CellIndex& cell, int bin) const {
     return maskBit(reflectiveMask(cell), bin);
   }
-  // Persistence tick: a cell's count (confirmedTicksAt) grows while it stays reflective and is hit
-  // again between ticks, saturating at 255, and resets when it stops being reflective.
-  // Long-confirmed evidence is structure even when seen from a single place; evidence that is
-  // merely never contradicted does not count.
-  // Cells with at least `remembered_min_bins` reflective bins (those that could be widely
-  // visible) get a history: their reflective bins are added to it (see contradictedBinsAt), and
-  // from then on every tick updates their vacancy (see vacantTicksAt). Histories are dropped
-  // with archived tiles.
-  // Cells confirmed for at least `confirmed_min_ticks` ticks (0: none) get a second history: the
-  // bins in which they were certain (log-odds at the clamp), see abandonedTicksAt.
-  // With a runner, on its threads.
-  void tickPersistence(int remembered_min_bins = std::numeric_limits<int>::max(),
-                       int confirmed_min_ticks = 0, ParallelRunner* runner = nullptr);
-  // Bins of the cell that were reflective at a persistence tick and are now missed with at least
-  // half the clamp's confidence: something that was seen there is gone (a person who stood
-  // still, then left). 0 for cells without history. Static structure, opaque, is not seen through
-  // from a direction it reflected in.
-  int contradictedBinsAt(int storage_index) const;
-  // Consecutive ticks, up to the last, over which the cell got new missed bins and no hit: it is
-  // seen through from new directions and nothing there reflects any more (a person who stood
-  // still seen from elsewhere after leaving). A hit resets it: structure in view is hit, even
-  // where grazing rays pass through its cell. 0 for cells without history.
-  int vacantTicksAt(int storage_index) const;
-  // Consecutive ticks, up to the last, over which a confirmed cell was missed in a bin it had
-  // been certain in and hit nowhere: the robot looks through it from where it saw it solid (a
-  // person who stood still for long, then left). Glass transmits only away from the directions it
-  // returns in, and structure in view is hit. 0 for cells without that history.
-  int abandonedTicksAt(int storage_index) const;
+  int8_t valueAt(int storage_index, int bin) const {
+    return bins_[static_cast<size_t>(bin) * plane_ + storage_index];
+  }
+
+  // What changed since the last persistence tick, for the anchor history (AnchorHistory::tick
+  // reads and clears it): the cells hit, and the storage tiles where a cell was hit or a mask
+  // changed. A tick changes nothing in the other tiles.
+  bool hitSinceTick(int storage_index) const { return hit_since_tick_[storage_index] != 0; }
+  void clearHitsSinceTick(int first_slot, int count) {
+    std::fill_n(&hit_since_tick_[first_slot], count, uint8_t{0});
+  }
+  // Whether the storage tile changed since the last tick; from now on it has not.
+  bool takeTickPending(int storage_tile) {
+    return std::exchange(tick_pending_[storage_tile], uint8_t{0}) != 0;
+  }
 
   // Per storage tile (window().tileSlotShift()): how many cells have a reflective bin, and a
   // version that changes whenever a cell summary of the tile (mask, reflective or missed count)
@@ -293,9 +199,7 @@ class ReflectanceField {
   double marginalOdds(const CellIndex& cell) const;
 
   // Memory.
-  size_t activeBytes() const;  // includes historyBytes()
-  // The departure and abandonment histories (estimated, hash map overhead included).
-  size_t historyBytes() const;
+  size_t activeBytes() const;
   size_t archivedBytes() const { return archive_.bytes(); }
   size_t archivedTiles() const { return archive_.tileCount(); }
   const TileArchive& archive() const { return archive_; }
@@ -308,6 +212,7 @@ class ReflectanceField {
   bool read(std::istream& in);
 
  private:
+  friend class detail::SliceWriter;
   void applySummaryChange(int storage_index, int bin, int reflective, int missed) {
     if ((reflective | missed) == 0) return;
     const int tile = storage_index >> window_.tileSlotShift();
@@ -349,7 +254,6 @@ class ReflectanceField {
   std::vector<uint16_t> missed_bins_;           // [y][x]
   std::vector<uint8_t> hit_since_tick_;         // [y][x]
   std::vector<uint16_t> reflective_bins_;       // [y][x]
-  std::vector<uint8_t> confirmed_ticks_;        // [y][x]
   std::vector<int> tile_reflective_cells_;      // per storage tile
   std::vector<uint32_t> tile_versions_;         // per storage tile
   // Per storage tile: a cell was hit, or a mask changed, since the last persistence tick. A tick
@@ -366,23 +270,6 @@ class ReflectanceField {
     uint64_t value;
   };
   Identity identity_;
-  // Sparse (only cells that could be widely visible): bins reflective at some tick.
-  struct CellHistory {
-    std::vector<uint64_t> bins;   // reflective at a tick (mask words)
-    uint16_t missed_at_tick = 0;  // missed bins at the last tick
-    uint8_t vacant_ticks = 0;
-  };
-  std::unordered_map<int, CellHistory> reflective_history_;  // by storage index
-  struct ConfirmedHistory {
-    std::vector<uint64_t> certain;  // bins at the clamp at a tick while confirmed (mask words)
-    std::vector<int8_t> at_tick;    // by bin: a certain bin's log-odds at the last tick
-    uint8_t abandoned_ticks = 0;
-  };
-  std::unordered_map<int, ConfirmedHistory> confirmed_history_;  // by storage index
-  // Adds the cell's reflective bins to its history (tickPersistence).
-  void addReflectiveBins(size_t storage_index, CellHistory& history) const;
-  // Adds the bins the cell is certain in to its confirmed history (see abandonedTicksAt).
-  void addCertainBins(size_t storage_index, ConfirmedHistory& history) const;
   TileArchive archive_;
 };
 

@@ -1,9 +1,10 @@
+// The first leaps of the reflection check, shared by neighbouring beams (ReflectionRemover).
 #pragma once
 
 #include "reflectance_field_map/core/clearance_map.h"
+#include "reflectance_field_map/core/detail/pass_through_detector.h"
 #include "reflectance_field_map/core/grid_geometry.h"
 #include "reflectance_field_map/core/laser_scan.h"
-#include "reflectance_field_map/core/ray_classification.h"
 
 #include <Eigen/Core>
 
@@ -11,7 +12,7 @@
 #include <limits>
 #include <optional>
 
-namespace rfm {
+namespace rfm::detail {
 
 // The first leaps of neighbouring beams of a scan, taken together: they diverge slowly, so while
 // they are close, one clearance lookup on the middle ray clears the stretch ahead of all of them.
@@ -67,4 +68,4 @@ class SharedLeap {
   double spread_ = 0.0, fastest_ = 0.0, stop_ = 0.0, along_ = 0.0;
 };
 
-}  // namespace rfm
+}  // namespace rfm::detail

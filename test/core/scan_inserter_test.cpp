@@ -1,5 +1,6 @@
-#include "reflectance_field_map/core/plain_occupancy_grid.h"
 #include "reflectance_field_map/core/scan_inserter.h"
+
+#include "reflectance_field_map/core/plain_occupancy_grid.h"
 
 #include "synthetic_world.h"
 

@@ -1,18 +1,15 @@
+// The reflection check of Alg. 3 for one ray, fed the cells along it (ReflectionRemover).
 #pragma once
 
 #include "reflectance_field_map/core/cell_class.h"
 #include "reflectance_field_map/core/grid_geometry.h"
 #include "reflectance_field_map/core/laser_scan.h"
-#include "reflectance_field_map/core/ray_traversal.h"
 
 #include <Eigen/Core>
 
-namespace rfm {
+#include <cmath>
 
-// Cells a ray cannot pass through without its return being untrustworthy (Alg. 3).
-inline bool blocksRays(CellClass c) {
-  return c == CellClass::kGlass || c == CellClass::kMetal || c == CellClass::kStatic;
-}
+namespace rfm::detail {
 
 // Reflection check of Alg. 3, fed cell by cell along a ray: finds the first blocking cell the
 // ray passes through. A blocking cell is glass or metal, or static and not reflective in the
@@ -115,44 +112,4 @@ class PassThroughDetector {
   bool decided_ = false;
 };
 
-// The check over global cells: class_of(cell) -> CellClass, reflective_near(cell, bin) -> bool.
-template <typename ClassOf, typename ReflectiveNear>
-double firstPassThroughDistance(const Ray& ray, const GridGeometry& geometry,
-                                double penetration_tolerance, ClassOf&& class_of,
-                                ReflectiveNear&& reflective_near) {
-  PassThroughDetector detector(ray, geometry, penetration_tolerance);
-  forEachCellOnRayWhile(
-      ray.origin, ray.end, geometry.inverseResolution(), [&](const CellIndex& cell) {
-        return detector.visit(
-            cell, class_of(cell), [&](int bin) { return reflective_near(cell, bin); }, class_of);
-      });
-  return detector.distance();
-}
-
-// How a beam's endpoint is judged against a map (paper Sec. VI-A): kept when the end cell, or one
-// of its 8 neighbours (discretisation), is an obstacle; otherwise its evidence did not survive:
-// motion (a transient object, or erased evidence when `final_map`). A beam longer than the
-// evidence range (active_region_radius) added nothing at its end: an end cell that no ray
-// observed leaves it unjudged (kept), against the final map too, as live.
-template <typename ClassOf>
-RayLabel labelEndpoint(const Ray& beam, const GridGeometry& geometry, double evidence_range,
-                       bool final_map, ClassOf&& class_of) {
-  const CellIndex end_cell = geometry.cellOf(beam.end);
-  bool motion = false;
-  const CellClass c = class_of(end_cell);
-  if (isObstacle(c)) return RayLabel::kKept;
-  motion |= c == CellClass::kMotion;
-  for (int dy = -1; dy <= 1; ++dy) {
-    for (int dx = -1; dx <= 1; ++dx) {
-      const CellClass n = class_of(CellIndex(end_cell.x() + dx, end_cell.y() + dy));
-      if (isObstacle(n)) return RayLabel::kKept;
-      motion |= n == CellClass::kMotion;
-    }
-  }
-  if (motion) return RayLabel::kMotion;
-  const bool judged =
-      final_map && (c != CellClass::kUnknown || (beam.end - beam.origin).norm() <= evidence_range);
-  return judged ? RayLabel::kMotion : RayLabel::kKept;  // unjudged: kept for safety
-}
-
-}  // namespace rfm
+}  // namespace rfm::detail

@@ -1,0 +1,136 @@
+// The anchors of motion removal (Alg. 2) beyond the paper's widely visible cells, and the
+// per-cell histories they read.
+#pragma once
+
+#include "reflectance_field_map/core/grid_geometry.h"
+#include "reflectance_field_map/core/occupancy.h"
+#include "reflectance_field_map/core/options.h"
+#include "reflectance_field_map/core/parallel_runner.h"
+#include "reflectance_field_map/core/reflectance_field.h"
+#include "reflectance_field_map/core/rolling_window.h"
+
+#include <cstdint>
+#include <limits>
+#include <unordered_map>
+#include <vector>
+
+namespace rfm {
+
+class AnchorHistory;
+
+// What the rules make of one reflective cell.
+struct CellAnchoring {
+  bool anchor = false;      // widely visible and still there: anchors, and is drawn static
+  bool persistent = false;  // confirmed for long and still there (persistence_min_cells)
+  bool opaque = false;      // never seen through (opaque_min_cells)
+};
+
+// The rules in the units the history counts in (ticks of the persistence clock, cells, theta
+// bins). 0 switches a rule off.
+struct AnchorRules {
+  // Cells confirmed for this many persistence ticks anchor their component too
+  // (AnchorHistory::confirmedTicksAt): a sensor that does not move sees walls from one side.
+  int persistence_ticks = 0;
+  // ... but only components at least this long (bounding box side, in cells): a person
+  // standing still is smaller than structure.
+  int persistence_min_cells = 0;
+  // Widely visible or confirmed cells with this many contradicted bins
+  // (AnchorHistory::contradictedBinsAt) anchor nothing: what stood there has left.
+  int departure_min_bins = 0;
+  // Nor do those vacant for this many ticks (AnchorHistory::vacantTicksAt): seen through
+  // from new directions and hit by nothing, as when the robot looks back at where a person
+  // stood from directions it never saw them from.
+  int departure_vacant_ticks = 0;
+  // Cells reflective in at least this many bins and never seen through (no missed bin) anchor
+  // components at least `opaque_min_cells` long: an opaque surface glimpsed through a doorway
+  // is neither widely visible nor long confirmed, but nothing ever passed through it.
+  int opaque_min_bins = 0;
+  int opaque_min_cells = 0;
+
+  // Which cells keep a history. Cells with at least this many reflective bins at a tick (those
+  // that could be widely visible) remember those bins (departures); max: none.
+  int remembered_min_bins = std::numeric_limits<int>::max();
+  // Cells confirmed for at least this many ticks remember the bins they are certain in
+  // (abandonment); 0: none.
+  int confirmed_min_ticks = 0;
+
+  // The rules of `options` for a field of `geometry` whose bins `model` updates; `rule` tells
+  // which cells could be widely visible.
+  static AnchorRules fromOptions(const MotionRemovalOptions& options, const GridGeometry& geometry,
+                                 const OccupancyRule& rule, const LogOddsModel& model);
+  // Component extents are needed only by the rules with a minimum length.
+  bool tracksExtents() const {
+    return persistence_min_cells > 0 || (opaque_min_bins > 0 && opaque_min_cells > 0);
+  }
+
+  // The rules applied to a reflective cell of `field` with `reflective_bins` bins,
+  // `widely_visible` by eq. 7, and the history `history` kept of it.
+  CellAnchoring judge(const ReflectanceField& field, const AnchorHistory& history,
+                      int storage_index, int reflective_bins, bool widely_visible) const;
+};
+
+// Per-cell histories of the active region that the anchor rules read, updated at persistence
+// ticks (on the scans' clock, motion_removal_rate):
+//  - confirmed ticks: grow while a cell stays reflective and is hit again between ticks,
+//    saturating at 255, and reset when it stops being reflective;
+//  - departure history (cells with at least remembered_min_bins reflective bins): the bins they
+//    were reflective in at some tick, and their vacancy (see vacantTicksAt);
+//  - certainty history (cells confirmed for confirmed_min_ticks): the bins they were certain in,
+//    and their abandonment (see abandonedTicksAt).
+// The histories summarise the active region only: tiles that leave it forget them.
+class AnchorHistory {
+ public:
+  explicit AnchorHistory(const ReflectanceField& field);
+
+  // A persistence tick: reads what the field changed since the last one (hits, mask changes)
+  // and clears that record. `rules` say which cells keep a history (remembered_min_bins,
+  // confirmed_min_ticks). With a runner, on its threads.
+  void tick(ReflectanceField& field, const AnchorRules& rules, ParallelRunner* runner = nullptr);
+  // The tiles left the active region (ReflectanceField::recenter): their cells start afresh.
+  void forgetTiles(const std::vector<TileIndex>& tiles, const RollingWindow& window);
+  void clear();
+
+  int confirmedTicksAt(int storage_index) const { return confirmed_ticks_[storage_index]; }
+  // Bins of the cell that were reflective at a tick and are now missed with at least half the
+  // clamp's confidence: something that was seen there is gone (a person who stood still, then
+  // left). 0 for cells without history. Static structure, opaque, is not seen through from a
+  // direction it reflected in.
+  int contradictedBinsAt(const ReflectanceField& field, int storage_index) const;
+  // Consecutive ticks, up to the last, over which the cell got new missed bins and no hit: it is
+  // seen through from new directions and nothing there reflects any more (a person who stood
+  // still seen from elsewhere after leaving). A hit resets it: structure in view is hit, even
+  // where grazing rays pass through its cell. 0 for cells without history.
+  int vacantTicksAt(int storage_index) const;
+  // Consecutive ticks, up to the last, over which a confirmed cell was missed in a bin it had
+  // been certain in and hit nowhere: the robot looks through it from where it saw it solid (a
+  // person who stood still for long, then left). Glass transmits only away from the directions
+  // it returns in, and structure in view is hit. 0 for cells without that history.
+  int abandonedTicksAt(int storage_index) const;
+
+  // Memory of the confirmed ticks and the histories (hash map overhead estimated).
+  size_t bytes() const;
+
+ private:
+  struct DepartureHistory {
+    std::vector<uint64_t> bins;   // reflective at a tick (mask words)
+    uint16_t missed_at_tick = 0;  // missed bins at the last tick
+    uint8_t vacant_ticks = 0;
+  };
+  struct CertaintyHistory {
+    std::vector<uint64_t> certain;  // bins at the clamp at a tick while confirmed (mask words)
+    std::vector<int8_t> at_tick;    // by bin: a certain bin's log-odds at the last tick
+    uint8_t abandoned_ticks = 0;
+  };
+  void addReflectiveBins(const ReflectanceField& field, size_t storage_index,
+                         DepartureHistory& history) const;
+  void addCertainBins(const ReflectanceField& field, size_t storage_index,
+                      CertaintyHistory& history) const;
+
+  int mask_words_;
+  int theta_bins_;
+  std::vector<uint8_t> confirmed_ticks_;                 // by storage index
+  std::unordered_map<int, DepartureHistory> departure_;  // by storage index
+  std::unordered_map<int, CertaintyHistory> certainty_;  // by storage index
+};
+
+}  // namespace rfm

@@ -1,0 +1,50 @@
+// The paper's per-ray classification (Sec. VI-A): each beam of a scan kept, or removed as
+// motion or reflection, against a map.
+#pragma once
+
+#include "reflectance_field_map/core/active_classes.h"
+#include "reflectance_field_map/core/cell_class.h"
+#include "reflectance_field_map/core/grid_geometry.h"
+#include "reflectance_field_map/core/laser_scan.h"
+#include "reflectance_field_map/core/reflection_removal.h"
+
+#include <vector>
+
+namespace rfm {
+
+// How a beam's endpoint is judged against a map (paper Sec. VI-A): kept when the end cell, or one
+// of its 8 neighbours (discretisation), is an obstacle; otherwise its evidence did not survive:
+// motion (a transient object, or erased evidence when `final_map`). A beam longer than the
+// evidence range (active_region_radius) added nothing at its end: an end cell that no ray
+// observed leaves it unjudged (kept), against the final map too, as live.
+template <typename ClassOf>
+RayLabel labelEndpoint(const Ray& beam, const GridGeometry& geometry, double evidence_range,
+                       bool final_map, ClassOf&& class_of) {
+  const CellIndex end_cell = geometry.cellOf(beam.end);
+  bool motion = false;
+  const CellClass c = class_of(end_cell);
+  if (isObstacle(c)) return RayLabel::kKept;
+  motion |= c == CellClass::kMotion;
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      const CellClass n = class_of(CellIndex(end_cell.x() + dx, end_cell.y() + dy));
+      if (isObstacle(n)) return RayLabel::kKept;
+      motion |= n == CellClass::kMotion;
+    }
+  }
+  if (motion) return RayLabel::kMotion;
+  const bool judged =
+      final_map && (c != CellClass::kUnknown || (beam.end - beam.origin).norm() <= evidence_range);
+  return judged ? RayLabel::kMotion : RayLabel::kKept;  // unjudged: kept for safety
+}
+
+// The labels of a scan's `rays` (in beam order, of a scan of `beams` beams) against the active
+// region's classes: REFLECTION where the reflection check finds the ray passing through a
+// blocking cell (its part inside the window), else as labelEndpoint judges it; NO_RETURN for
+// beams without a return.
+std::vector<RayLabel> labelRays(const std::vector<Ray>& rays, size_t beams,
+                                const ReflectionRemover& reflections, const ActiveClasses& classes,
+                                const CellBox& window_box, const GridGeometry& geometry,
+                                double evidence_range, bool final_map);
+
+}  // namespace rfm

@@ -1,0 +1,91 @@
+// Reflection removal (Alg. 3): rays that passed through glass lose their evidence beyond it.
+#pragma once
+
+#include "reflectance_field_map/core/active_classes.h"
+#include "reflectance_field_map/core/frozen_reflectivity.h"
+#include "reflectance_field_map/core/laser_scan.h"
+#include "reflectance_field_map/core/options.h"
+#include "reflectance_field_map/core/parallel_runner.h"
+#include "reflectance_field_map/core/reflectance_field.h"
+#include "reflectance_field_map/core/scan_inserter.h"
+
+#include <Eigen/Core>
+
+#include <cstddef>
+#include <deque>
+#include <vector>
+
+namespace rfm {
+
+namespace detail {
+class PassThroughDetector;
+}  // namespace detail
+
+// Checks rays against the glass, metal and static cells of the active region (ActiveClasses)
+// and cuts those that pass through one just past it: their misses beyond it and their hit are
+// discarded, as Alg. 3 discards evidence beyond glass. Online, it also keeps the latest scans as
+// inserted and, when motion removal finds new glass, takes back their evidence from beyond it.
+class ReflectionRemover {
+ public:
+  // `field` and `classes` must outlive this.
+  ReflectionRemover(const ReflectionRemovalOptions& options, const ReflectanceField& field,
+                    const ActiveClasses& classes);
+
+  // Whether rays are checked at all: reflection removal is on and some cell blocks rays.
+  bool checks() const { return enabled_ && classes_.anyBlocking(); }
+
+  // For rays inside the window: the distance along each of the first blocking cell it passes
+  // through, negative where it passes none (distances[0, count)). A blocking cell is glass or
+  // metal, or static and not reflective in the ray's direction (for a ray with a return), that
+  // the ray crosses near a cell centre and leaves more than penetration_tolerance before its end.
+  void passThroughDistances(const Ray* rays, size_t count, double* distances) const;
+  // Cuts the rays (inside the window) that pass through a blocking cell just past it; each
+  // return cut becomes REFLECTION in labels (by beam). With a runner, rays on its threads.
+  // Returns the number of returns cut.
+  size_t cut(std::vector<Ray>& rays, std::vector<RayLabel>& labels, ParallelRunner* runner) const;
+
+  // Until thaw(), the check reads the directions the static cells of the window reflected in
+  // as they are now, not as the field has them then: a batch pass rebuilding the evidence then
+  // depends on no scan of its own, so its scans may go in side by side.
+  void freeze();
+  void thaw() { frozen_.clear(); }
+  bool frozen() const { return frozen_.active(); }
+
+  // Online re-processing. Keeps a scan's rays as inserted (inside the window, cut at the glass
+  // known then) from `origin`, beam 0 heading `first_beam_angle` (world, rad) and the next ones
+  // `increment` apart; the latest scan_buffer_size scans are kept.
+  void keep(const std::vector<Ray>& rays, const Eigen::Vector2d& origin, double first_beam_angle,
+            double increment);
+  // Forgets the kept scans (the window moved, or the evidence restarts).
+  void forgetScans() { buffer_.clear(); }
+  // New glass appeared in `new_glass`: the kept scans whose rays pass through it added
+  // evidence beyond it, which is taken back exactly (their de-duplicated updates replayed with
+  // and without it; a revert never moves a bin past the prior).
+  void revertBehindGlass(const CellBox& new_glass, ScanInserter& inserter, ReflectanceField& field);
+
+ private:
+  // The check of one ray from `from` m along it on, leaping where the clearance allows by
+  // `leap_unit` m per cell of clearance.
+  double walkTowardsGlass(const Ray& ray, detail::PassThroughDetector& detector, double from,
+                          double leap_unit) const;
+  // Cuts a ray `along` m from its origin, where the check found glass (false if negative).
+  bool cutAtDistance(double along, Ray& ray) const;
+
+  // A scan as inserted, kept for online re-processing.
+  struct KeptScan {
+    std::vector<Ray> rays;    // in beam order
+    Eigen::Vector2d origin;   // of every ray (the sensor, inside the window)
+    double first_beam_angle;  // world direction of beam 0, rad
+    double increment;         // rad between beams
+  };
+
+  bool enabled_;
+  double penetration_tolerance_;
+  size_t buffer_size_;
+  const ReflectanceField& field_;
+  const ActiveClasses& classes_;
+  FrozenReflectivity frozen_;
+  std::deque<KeptScan> buffer_;
+};
+
+}  // namespace rfm

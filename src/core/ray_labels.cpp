@@ -1,0 +1,40 @@
+#include "reflectance_field_map/core/ray_labels.h"
+
+#include "reflectance_field_map/core/ray_insertion.h"
+
+namespace rfm {
+
+std::vector<RayLabel> labelRays(const std::vector<Ray>& rays, size_t beams,
+                                const ReflectionRemover& reflections, const ActiveClasses& classes,
+                                const CellBox& window_box, const GridGeometry& geometry,
+                                double evidence_range, bool final_map) {
+  std::vector<RayLabel> labels(beams, RayLabel::kNoReturn);
+  // The reflection check of every hit ray first, side by side (passThroughDistances).
+  std::vector<Ray> checked;
+  std::vector<double> through;
+  if (reflections.checks()) {
+    checked.reserve(rays.size());  // grown one by one, it reallocated ten times a scan
+    for (const Ray& ray : rays) {
+      Ray inside = ray;
+      if (ray.hit && clipRayToBox(window_box, geometry.resolution(), inside)) {
+        checked.push_back(inside);
+      }
+    }
+    through.resize(checked.size());
+    reflections.passThroughDistances(checked.data(), checked.size(), through.data());
+  }
+  auto class_of = [&classes](const CellIndex& cell) { return classes.at(cell); };
+  size_t next_checked = 0;
+  for (const Ray& ray : rays) {
+    if (!ray.hit) continue;  // no return: nothing to keep or remove
+    if (next_checked < checked.size() && checked[next_checked].beam == ray.beam &&
+        through[next_checked++] >= 0.0) {
+      labels[ray.beam] = RayLabel::kReflection;
+      continue;
+    }
+    labels[ray.beam] = labelEndpoint(ray, geometry, evidence_range, final_map, class_of);
+  }
+  return labels;
+}
+
+}  // namespace rfm
