@@ -9,7 +9,9 @@ without a jump: a replay gives the mapper a long continuous recording that revis
 
   compose_bag.py --out LONG.bag --duration 3600 [--spacing 60] SCENE.bag [SCENE.bag ...]
 
-Only /scan_front, /scan_rear, /tf and /tf_static are kept.
+Only /scan_front, /scan_rear, /tf and /tf_static are kept. Scans are numbered (header.seq) one
+after the other on each topic, as a driver numbers them, so that the node can count any it loses
+in a queue.
 """
 import argparse
 import copy
@@ -92,6 +94,7 @@ def main():
     laps = 0
     scans = 0
     lap_seconds = None
+    seq = {topic: 0 for topic in SCAN_TOPICS}
     with rosbag.Bag(args.out, "w") as out:
         out.write("/tf_static", scenes[0].statics, start)
         while (now - start).to_sec() < args.duration:
@@ -123,6 +126,8 @@ def main():
                                 tf.transform.translation.x += dx
                     else:
                         msg.header.stamp = msg.header.stamp + shift
+                        seq[topic] += 1
+                        msg.header.seq = seq[topic]
                         scans += 1
                     out.write(topic, msg, t + shift)
                 now = scene.end + shift + rospy.Duration(0.01)
