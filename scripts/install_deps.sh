@@ -15,4 +15,5 @@ apt-get install -y -q --no-install-recommends \
   python3-rostopic python3-rosnode python3-roslaunch python3-rosservice rosbash tf2-tools \
   libnodeletlib-tools \
   python3-sensor-msgs python3-nav-msgs python3-tf2-msgs python3-visualization-msgs python3-std-srvs \
+  python3-diagnostic-msgs \
   rviz xvfb xauth imagemagick

@@ -103,20 +103,33 @@ bool GlobalMap2D::read(std::istream& in) {
       tile_cells != tile_cells_ || !in.read(reinterpret_cast<char*>(&count), sizeof(count))) {
     return false;
   }
+  // Tiles are read one at a time, each allocated only as its key is checked: the count itself
+  // costs nothing until the data behind it is there.
+  const size_t tile_bytes = static_cast<size_t>(tile_cells_) * tile_cells_;
+  const int64_t tile_limit = kMaxCellCoordinate / tile_cells_;
   GlobalMap2D loaded(tile_cells_);
   for (uint64_t i = 0; i < count; ++i) {
     int64_t tile_key = 0;
-    Tile storage(new CellClass[static_cast<size_t>(tile_cells_) * tile_cells_]);
-    if (!in.read(reinterpret_cast<char*>(&tile_key), sizeof(tile_key)) ||
-        !in.read(reinterpret_cast<char*>(storage.get()),
-                 static_cast<std::streamsize>(tile_cells_) * tile_cells_)) {
+    if (!in.read(reinterpret_cast<char*>(&tile_key), sizeof(tile_key))) return false;
+    const int64_t tx = tile_key >> 32;  // arithmetic: the high word is signed
+    const int64_t ty = static_cast<int32_t>(static_cast<uint32_t>(tile_key));
+    if (tx < -tile_limit || tx >= tile_limit || ty < -tile_limit || ty >= tile_limit) {
       return false;
     }
-    const TileIndex tile(static_cast<int>(tile_key >> 32),
-                         static_cast<int>(static_cast<uint32_t>(tile_key)));
+    const TileIndex tile(static_cast<int>(tx), static_cast<int>(ty));
+    Tile storage(new CellClass[tile_bytes]);
+    if (!in.read(reinterpret_cast<char*>(storage.get()),
+                 static_cast<std::streamsize>(tile_bytes))) {
+      return false;
+    }
+    for (size_t c = 0; c < tile_bytes; ++c) {
+      if (static_cast<uint8_t>(storage[c]) > static_cast<uint8_t>(CellClass::kOccupied)) {
+        return false;
+      }
+    }
+    if (!loaded.tiles_.emplace(key(tile), std::move(storage)).second) return false;  // twice
     loaded.bounds_ =
         loaded.bounds_.unite({tile * tile_cells_, (tile + TileIndex(1, 1)) * tile_cells_});
-    loaded.tiles_.emplace(tile_key, std::move(storage));
   }
   loaded.changed_ = loaded.bounds_;
   *this = std::move(loaded);

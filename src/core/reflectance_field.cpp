@@ -336,7 +336,7 @@ bool ReflectanceField::read(std::istream& in) {
     return false;
   }
   TileArchive loaded;
-  if (!loaded.read(in)) return false;
+  if (!loaded.read(in, tile_cells, bins)) return false;
   clear();
   archive_ = std::move(loaded);
   return true;

@@ -1,5 +1,7 @@
 #include "reflectance_field_map/core/tile_archive.h"
 
+#include "reflectance_field_map/core/global_map.h"
+
 #include <istream>
 #include <ostream>
 
@@ -84,24 +86,38 @@ void TileArchive::write(std::ostream& out) const {
   }
 }
 
-bool TileArchive::read(std::istream& in) {
-  clear();
+bool TileArchive::read(std::istream& in, int tile_cells, int theta_bins) {
+  if (tile_cells <= 0 || theta_bins <= 0) return false;
   uint64_t count = 0;
   if (!in.read(reinterpret_cast<char*>(&count), sizeof(count))) return false;
+  const size_t tile_bins = static_cast<size_t>(tile_cells) * tile_cells * theta_bins;
+  // Entries are checked one at a time before their bytes are allocated, so the count and the
+  // sizes cost nothing until the data behind them is there.
+  const uint64_t max_packed = maxPackedBytes(tile_bins);
+  const int64_t limit = GlobalMap2D::kMaxCellCoordinate / tile_cells;
+  TileArchive loaded;
+  std::vector<int8_t> decoded(tile_bins);
   for (uint64_t i = 0; i < count; ++i) {
     int64_t tile_key = 0;
     uint64_t size = 0;
     if (!in.read(reinterpret_cast<char*>(&tile_key), sizeof(tile_key)) ||
-        !in.read(reinterpret_cast<char*>(&size), sizeof(size)) || size > (1u << 30)) {
+        !in.read(reinterpret_cast<char*>(&size), sizeof(size)) || size == 0 || size > max_packed) {
       return false;
     }
+    const int64_t tx = tile_key >> 32;  // arithmetic: the high word is signed
+    const int64_t ty = static_cast<int32_t>(static_cast<uint32_t>(tile_key));
+    if (tx < -limit || tx >= limit || ty < -limit || ty >= limit) return false;
     std::vector<uint8_t> packed(size);
-    if (!in.read(reinterpret_cast<char*>(packed.data()), static_cast<std::streamsize>(size))) {
+    if (!in.read(reinterpret_cast<char*>(packed.data()), static_cast<std::streamsize>(size)) ||
+        !decompressBins(packed, decoded.data(), decoded.size())) {
       return false;
     }
-    bytes_ += size;
-    tiles_[tile_key] = std::move(packed);
+    const int64_t canonical = key({static_cast<int>(tx), static_cast<int>(ty)});
+    if (loaded.tiles_.count(canonical) > 0) return false;  // the same tile twice
+    loaded.bytes_ += size;
+    loaded.tiles_.emplace(canonical, std::move(packed));
   }
+  *this = std::move(loaded);
   return true;
 }
 

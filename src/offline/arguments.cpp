@@ -53,7 +53,15 @@ std::string usage() {
          "  --baseline               plain 2D occupancy grid instead of the RFM\n"
          "  --theta-view x0,y0,x1,y1 also write DIR/theta_view.png: theta-resolved field of the\n"
          "                           cells along that segment (m, fixed frame)\n"
-         "  -h, --help               this text\n";
+         "  --max-speed M/S          a robot pose farther from the last mapped one than this\n"
+         "                           speed allows (plus 0.5 m) is a pose jump: its scan is\n"
+         "                           skipped (default 5, as the node's max_robot_speed)\n"
+         "  --strict                 fail when any scan cannot be mapped (no transform,\n"
+         "                           malformed, corrupt, pose jump) instead of skipping it\n"
+         "  -h, --help               this text\n"
+         "\n"
+         "Scans that cannot be mapped are skipped and counted per topic and reason (one warning\n"
+         "line per reason, summary.json's scans.skipped); the run fails only when none can.\n";
 }
 
 OfflineArguments parseArguments(const std::vector<std::string>& args) {
@@ -111,6 +119,12 @@ OfflineArguments parseArguments(const std::vector<std::string>& args) {
     } else if (flag == "--baseline") {
       noValue();
       parsed.baseline = true;
+    } else if (flag == "--strict") {
+      noValue();
+      parsed.strict = true;
+    } else if (flag == "--max-speed") {
+      parsed.max_speed = parseNumber("--max-speed", takeValue());
+      if (parsed.max_speed <= 0.0) throw ArgumentError("--max-speed must be positive (m/s)");
     } else if (flag == "--theta-view") {
       const std::vector<std::string> parts = splitComma(takeValue());
       if (parts.size() != 4) {

@@ -1,5 +1,7 @@
 #include "reflectance_field_map/offline/bag_input.h"
 
+#include "reflectance_field_map/core/pose_gate.h"
+#include "reflectance_field_map/offline/bag_messages.h"
 #include "reflectance_field_map/ros/conversions.h"
 
 #include <rosbag/bag.h>
@@ -14,6 +16,7 @@
 #include <atomic>
 #include <exception>
 #include <filesystem>
+#include <fstream>
 #include <iterator>
 #include <map>
 #include <numeric>
@@ -34,35 +37,66 @@ std::string joinList(const std::vector<std::string>& items) {
   return text.empty() ? "(none)" : text;
 }
 
-// Per-topic tally of scans that could not be used, with the first reason.
-struct Failures {
-  std::vector<uint64_t> count;
-  std::vector<std::string> first;
-  uint64_t total = 0;
+// Tallies skips by reason; `topics` sizes each new tally.
+class SkipCounter {
+ public:
+  explicit SkipCounter(size_t topics) : topics_(topics) {}
+  void add(const std::string& reason, uint32_t topic, const std::string& what) {
+    SkipTally& tally = tallyFor(reason);
+    if (tally.per_topic[topic]++ == 0) tally.first[topic] = what;
+    ++tally.total;
+  }
+  // Adds a later stretch's skips (its first ones come after this one's).
+  void merge(const std::map<std::string, SkipTally>& later) {
+    for (const auto& [reason, theirs] : later) {
+      SkipTally& mine = tallyFor(reason);
+      for (size_t t = 0; t < topics_; ++t) {
+        if (mine.per_topic[t] == 0) mine.first[t] = theirs.first[t];
+        mine.per_topic[t] += theirs.per_topic[t];
+      }
+      mine.total += theirs.total;
+    }
+  }
+  std::map<std::string, SkipTally>& tallies() { return tallies_; }
 
-  explicit Failures(size_t topics) : count(topics, 0), first(topics) {}
-  void add(uint32_t topic, const std::string& reason) {
-    if (count[topic]++ == 0) first[topic] = reason;
-    ++total;
-  }
-  // Adds a later stretch's failures (its first reasons come after this one's).
-  void merge(const Failures& later) {
-    for (size_t t = 0; t < count.size(); ++t) {
-      if (count[t] == 0) first[t] = later.first[t];
-      count[t] += later.count[t];
+ private:
+  SkipTally& tallyFor(const std::string& reason) {
+    SkipTally& tally = tallies_[reason];
+    if (tally.per_topic.empty()) {
+      tally.per_topic.assign(topics_, 0);
+      tally.first.assign(topics_, std::string());
     }
-    total += later.total;
+    return tally;
   }
-  std::string describe(const BagScans& scans) const {
-    std::ostringstream out;
-    for (size_t t = 0; t < count.size(); ++t) {
-      if (count[t] == 0) continue;
-      out << "\n  " << scans.topics[t] << ": " << count[t] << " of " << scans.scans_per_topic[t]
-          << " scans, first: " << first[t];
-    }
-    return out.str();
-  }
+
+  size_t topics_;
+  std::map<std::string, SkipTally> tallies_;
 };
+
+// What a reason's scans are, after "N of M scans ".
+std::string reasonText(const std::string& reason) {
+  if (reason == "oversized") return "are larger than any LaserScan this tool takes";
+  if (reason == "undecodable") return "hold bytes that are not a LaserScan (corrupt)";
+  if (reason == "malformed") return "are malformed";
+  if (reason == "no_transform") return "have no transform into the fixed frame at their stamp";
+  if (reason == "pose_jump") return "were taken at a pose jump faster than --max-speed";
+  return reason;
+}
+
+// A damaged bag still starts with rosbag's version line.
+bool looksLikeBag(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char start[8] = {};
+  return in.read(start, sizeof(start)) && std::string(start, sizeof(start)) == "#ROSBAG ";
+}
+
+// A recording cut short loses its index, which rosbag needs to read any of it.
+std::string recoveryHint(const std::string& bag) {
+  return "\nIf the recording was cut short (a full disk, a crash), rebuild its index with "
+         "`rosbag reindex " +
+         bag + "` (it keeps the original as " + std::filesystem::path(bag).stem().string() +
+         ".orig.bag) and run again: every message before the cut is then read.";
+}
 
 std::string stampText(const ros::Time& stamp) {
   std::ostringstream out;
@@ -74,64 +108,83 @@ std::string stampText(const ros::Time& stamp) {
 
 // What one reader takes from its stretch of the recording, in bag order.
 struct BagStretch {
-  explicit BagStretch(size_t topics) : scans_per_topic(topics, 0), malformed(topics) {}
+  explicit BagStretch(size_t topics) : read_per_topic(topics, 0), skips(topics) {}
   std::vector<std::pair<geometry_msgs::TransformStamped, bool>> transforms;  // and whether static
   uint64_t tf_messages = 0;
+  uint64_t tf_refused = 0;  // TF messages too large or corrupt
   std::vector<TimedScan> scans;
   std::vector<ScanSource> sources;
-  std::vector<uint64_t> scans_per_topic;
-  Failures malformed;
+  std::vector<uint64_t> read_per_topic;
+  SkipCounter skips;
   bool zero_stamps = false;
 };
+
+void readTf(const rosbag::MessageInstance& message, BagStretch& out) {
+  if (!message.isType<tf2_msgs::TFMessage>()) return;
+  tf2_msgs::TFMessage tf_message;
+  std::string why;
+  if (decodeTfMessage(message, tf_message, why) != DecodeResult::kOk) {
+    ++out.tf_refused;
+    return;
+  }
+  const bool is_static = message.getTopic() == "/tf_static";
+  for (geometry_msgs::TransformStamped& transform : tf_message.transforms) {
+    transform.header.frame_id = normalizedFrame(transform.header.frame_id);
+    transform.child_frame_id = normalizedFrame(transform.child_frame_id);
+    out.transforms.emplace_back(std::move(transform), is_static);
+  }
+  ++out.tf_messages;
+}
+
+void readScan(const rosbag::MessageInstance& message, uint32_t topic, BagStretch& out) {
+  if (!message.isType<sensor_msgs::LaserScan>()) return;
+  ++out.read_per_topic[topic];
+  const std::string when = "bag time " + stampText(message.getTime()) + ": ";
+  sensor_msgs::LaserScan msg;
+  std::string why;
+  const DecodeResult decoded = decodeLaserScan(message, msg, why);
+  if (decoded != DecodeResult::kOk) {
+    out.skips.add(decoded == DecodeResult::kOversized ? "oversized" : "undecodable", topic,
+                  when + why);
+    return;
+  }
+  ScanSource source;
+  source.topic_index = topic;
+  source.seq = msg.header.seq;
+  source.stamp = msg.header.stamp;
+  source.bag_time = message.getTime();
+  source.frame_id = normalizedFrame(msg.header.frame_id);
+  if (source.stamp.isZero()) {
+    source.stamp = source.bag_time;  // unstamped driver: the recording time is all we have
+    out.zero_stamps = true;
+  }
+  TimedScan scan;
+  scan.sensor_id = topic;
+  scan.stamp = source.stamp.toSec();
+  scan.scan = ros_glue::toLaserScan2D(msg);
+  // The node rejects these; a recording is taken as it is.
+  source.reversed = scan.scan.angle_increment < 0.0f && !scan.scan.ranges.empty();
+  if (source.reversed) reverseBeamOrder(scan.scan);
+  std::string problem = scan.scan.validate();
+  if (problem.empty() && source.frame_id.empty()) problem = "the scan has an empty frame_id";
+  if (!problem.empty()) {
+    out.skips.add("malformed", topic, "t=" + stampText(source.stamp) + ": " + problem);
+    return;
+  }
+  out.scans.push_back(std::move(scan));
+  out.sources.push_back(std::move(source));
+}
 
 // Reads a view of scan and TF messages; `counted` is called after each message.
 void readStretch(rosbag::View& view, const std::map<std::string, uint32_t>& topic_index,
                  BagStretch& out, const std::function<void()>& counted) {
   for (const rosbag::MessageInstance& message : view) {
-    const std::string& topic = message.getTopic();
-    const auto scan_topic = topic_index.find(topic);
+    const auto scan_topic = topic_index.find(message.getTopic());
     if (scan_topic == topic_index.end()) {
-      const tf2_msgs::TFMessage::ConstPtr tf_message = message.instantiate<tf2_msgs::TFMessage>();
-      if (tf_message) {
-        const bool is_static = topic == "/tf_static";
-        for (geometry_msgs::TransformStamped transform : tf_message->transforms) {
-          transform.header.frame_id = normalizedFrame(transform.header.frame_id);
-          transform.child_frame_id = normalizedFrame(transform.child_frame_id);
-          out.transforms.emplace_back(std::move(transform), is_static);
-        }
-        ++out.tf_messages;
-      }
-      counted();
-      continue;
+      readTf(message, out);
+    } else {
+      readScan(message, scan_topic->second, out);
     }
-    const sensor_msgs::LaserScan::ConstPtr msg = message.instantiate<sensor_msgs::LaserScan>();
-    if (!msg) {
-      counted();
-      continue;
-    }
-    ScanSource source;
-    source.topic_index = scan_topic->second;
-    source.seq = msg->header.seq;
-    source.stamp = msg->header.stamp;
-    source.bag_time = message.getTime();
-    source.frame_id = normalizedFrame(msg->header.frame_id);
-    if (source.stamp.isZero()) {
-      source.stamp = source.bag_time;  // unstamped driver: the recording time is all we have
-      out.zero_stamps = true;
-    }
-    TimedScan scan;
-    scan.sensor_id = source.topic_index;
-    scan.stamp = source.stamp.toSec();
-    scan.scan = ros_glue::toLaserScan2D(*msg);
-    // The node rejects these; a recording is taken as it is (none of its scans dropped).
-    source.reversed = scan.scan.angle_increment < 0.0f && !scan.scan.ranges.empty();
-    if (source.reversed) reverseBeamOrder(scan.scan);
-    const std::string problem = scan.scan.validate();
-    if (!problem.empty())
-      out.malformed.add(source.topic_index, "t=" + stampText(source.stamp) + ": " + problem);
-    ++out.scans_per_topic[source.topic_index];
-    out.scans.push_back(std::move(scan));
-    out.sources.push_back(std::move(source));
     counted();
   }
 }
@@ -145,17 +198,47 @@ std::string normalizedFrame(const std::string& frame) {
   return frame.substr(start);
 }
 
+uint64_t BagScans::scansRead() const {
+  return std::accumulate(read_per_topic.begin(), read_per_topic.end(), uint64_t{0});
+}
+
+uint64_t BagScans::scansSkipped() const {
+  uint64_t total = 0;
+  for (const auto& entry : skipped)
+    total += entry.second.total;
+  return total;
+}
+
+std::vector<std::string> BagScans::describeSkips() const {
+  std::vector<std::string> lines;
+  for (const auto& [reason, tally] : skipped) {
+    std::ostringstream line;
+    line << tally.total << " of " << scansRead() << " scans " << reasonText(reason) << " ("
+         << reason << "):";
+    std::string first;
+    for (size_t t = 0; t < topics.size(); ++t) {
+      if (tally.per_topic[t] == 0) continue;
+      line << ' ' << topics[t] << ": " << tally.per_topic[t] << " of " << read_per_topic[t] << ";";
+      if (first.empty()) first = tally.first[t];
+    }
+    line << " e.g. " << first;
+    lines.push_back(line.str());
+  }
+  return lines;
+}
+
 BagScans readBagScans(const BagInputOptions& options,
                       const std::function<void(size_t, size_t)>& progress) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(options.bag, ec)) {
     throw BagInputError("cannot read bag " + options.bag + ": no such file");
   }
+  const std::string hint = looksLikeBag(options.bag) ? recoveryHint(options.bag) : std::string();
   rosbag::Bag bag;
   try {
     bag.open(options.bag, rosbag::bagmode::Read);
   } catch (const rosbag::BagException& e) {
-    throw BagInputError("cannot read bag " + options.bag + ": " + e.what());
+    throw BagInputError("cannot read bag " + options.bag + ": " + e.what() + hint);
   }
 
   BagScans result;
@@ -175,7 +258,7 @@ BagScans readBagScans(const BagInputOptions& options,
       bag_end = all.getEndTime();
     }
   } catch (const rosbag::BagException& e) {
-    throw BagInputError("cannot read bag " + options.bag + ": " + e.what());
+    throw BagInputError("cannot read bag " + options.bag + ": " + e.what() + hint);
   }
 
   std::vector<std::string> laser_topics;
@@ -209,6 +292,7 @@ BagScans readBagScans(const BagInputOptions& options,
                         "; its LaserScan topics: " + joinList(laser_topics));
   }
   result.scans_per_topic.assign(result.topics.size(), 0);
+  result.read_per_topic.assign(result.topics.size(), 0);
 
   // TF: the whole bag's /tf and /tf_static in one buffer whose cache spans the recording.
   const double span = bag_end > bag_begin ? (bag_end - bag_begin).toSec() : 0.0;
@@ -262,28 +346,30 @@ BagScans readBagScans(const BagInputOptions& options,
     if (second_error) std::rethrow_exception(second_error);
     if (progress) progress(total, total);
   } catch (const rosbag::BagException& e) {
-    throw BagInputError("cannot read " + options.bag + ": " + e.what());
+    throw BagInputError("cannot read " + options.bag + ": " + e.what() + hint);
   }
 
   std::vector<TimedScan> scans;
   std::vector<ScanSource> sources;
-  Failures malformed(result.topics.size());
+  SkipCounter skips(result.topics.size());
   bool zero_stamps = false;
+  uint64_t tf_refused = 0;
   for (BagStretch& stretch : stretches) {
     for (const auto& [transform, is_static] : stretch.transforms)
       tf.setTransform(transform, "rosbag", is_static);
     result.tf_messages += stretch.tf_messages;
+    tf_refused += stretch.tf_refused;
     for (size_t t = 0; t < result.topics.size(); ++t)
-      result.scans_per_topic[t] += stretch.scans_per_topic[t];
-    malformed.merge(stretch.malformed);
+      result.read_per_topic[t] += stretch.read_per_topic[t];
+    skips.merge(stretch.skips.tallies());
     zero_stamps |= stretch.zero_stamps;
     std::move(stretch.scans.begin(), stretch.scans.end(), std::back_inserter(scans));
     std::move(stretch.sources.begin(), stretch.sources.end(), std::back_inserter(sources));
   }
   if (zero_stamps) result.notes.push_back("scans with a zero header stamp use their bag time");
-  if (malformed.total > 0) {
-    throw BagInputError(std::to_string(malformed.total) + " of " + std::to_string(scans.size()) +
-                        " scans are malformed:" + malformed.describe(result));
+  if (tf_refused > 0) {
+    result.notes.push_back(std::to_string(tf_refused) +
+                           " TF messages are too large or corrupt: left out");
   }
 
   // Chronological order for the mapper (topics interleave by recording time otherwise).
@@ -294,9 +380,9 @@ BagScans readBagScans(const BagInputOptions& options,
 
   // Poses at each scan's stamp.
   const bool bag_has_tf = result.tf_messages > 0;
-  Failures no_tf(result.topics.size());
   std::string frame_without_tf;
   uint64_t upside_down = 0;
+  PoseGate gate(options.max_speed, kPoseJumpSlack);
   result.scans.reserve(scans.size());
   result.sources.reserve(scans.size());
   for (size_t i : order) {
@@ -304,7 +390,6 @@ BagScans readBagScans(const BagInputOptions& options,
     ScanSource& source = sources[i];
     const std::string& frame = source.frame_id;
     try {
-      if (frame.empty()) throw tf2::InvalidArgumentException("the scan has an empty frame_id");
       if (frame == fixed_frame) {
         scan.sensor_pose = Pose2D();
       } else if (!bag_has_tf) {
@@ -330,23 +415,37 @@ BagScans readBagScans(const BagInputOptions& options,
             ros_glue::toPose2D(tf.lookupTransform(fixed_frame, base_frame, source.stamp).transform);
       }
     } catch (const tf2::TransformException& e) {
-      no_tf.add(source.topic_index, "t=" + stampText(source.stamp) + ": " + e.what());
+      skips.add("no_transform", source.topic_index,
+                "t=" + stampText(source.stamp) + ": " + e.what());
+      continue;
     }
+    if (!gate.accept(scan.stamp, scan.robot_pose.position)) {
+      std::ostringstream what;
+      what << "t=" << stampText(source.stamp) << ": the robot at (" << scan.robot_pose.position.x()
+           << ", " << scan.robot_pose.position.y() << "), " << gate.lastRejectedJump()
+           << " m from its last mapped pose";
+      skips.add("pose_jump", source.topic_index, what.str());
+      continue;
+    }
+    ++result.scans_per_topic[source.topic_index];
     result.scans.push_back(std::move(scan));
     result.sources.push_back(std::move(source));
   }
-  if (!bag_has_tf && !frame_without_tf.empty()) {
-    throw BagInputError("the bag has no /tf or /tf_static, so scans in frame '" + frame_without_tf +
-                        "' can't be placed in the fixed frame '" + fixed_frame +
-                        "'. For a sensor that does not move, pass --fixed-frame " +
-                        frame_without_tf + " (the scan frame): its poses are then the identity.");
-  }
-  if (no_tf.total > 0) {
-    throw BagInputError(std::to_string(no_tf.total) + " of " + std::to_string(result.scans.size()) +
-                        " scans have no transform from their frame or from '" + base_frame +
-                        "' into '" + fixed_frame + "' at their stamp:" + no_tf.describe(result) +
-                        "\nCheck --fixed-frame and --base-frame. Frames in the bag's TF:\n" +
-                        tf.allFramesAsString());
+  result.skipped = std::move(skips.tallies());
+  if (result.scans.empty()) {
+    std::string message = "no scan of " + options.bag + " can be mapped:";
+    for (const std::string& line : result.describeSkips())
+      message += "\n  " + line;
+    if (!bag_has_tf && !frame_without_tf.empty()) {
+      message += "\nThe bag has no /tf or /tf_static, so scans in frame '" + frame_without_tf +
+                 "' can't be placed in the fixed frame '" + fixed_frame +
+                 "'. For a sensor that does not move, pass --fixed-frame " + frame_without_tf +
+                 " (the scan frame): its poses are then the identity.";
+    } else if (result.skipped.count("no_transform") > 0) {
+      message += "\nCheck --fixed-frame and --base-frame ('" + fixed_frame + "', '" + base_frame +
+                 "'). Frames in the bag's TF:\n" + tf.allFramesAsString();
+    }
+    throw BagInputError(message);
   }
   if (upside_down > 0) {
     result.notes.push_back(std::to_string(upside_down) +

@@ -82,6 +82,7 @@ int runOffline(const OfflineArguments& args, std::ostream& log) {
     input_options.scan_topics = args.scan_topics;
     input_options.fixed_frame = args.fixed_frame;
     input_options.base_frame = args.base_frame;
+    input_options.max_speed = args.max_speed;
     BagScans input;
     {
       ProgressBar bar("reading");
@@ -94,7 +95,15 @@ int runOffline(const OfflineArguments& args, std::ostream& log) {
     }
     for (const std::string& note : input.notes)
       log << "rfm_offline: note: " << note << "\n";
-    log << "read " << input.scans.size() << " scans (" << input.duration << " s) from";
+    const char* skip_level = args.strict ? "error" : "warning";
+    for (const std::string& line : input.describeSkips())
+      log << "rfm_offline: " << skip_level << ": skipped " << line << "\n";
+    if (args.strict && input.scansSkipped() > 0) {
+      log << "rfm_offline: --strict: " << input.scansSkipped() << " of " << input.scansRead()
+          << " scans cannot be mapped; nothing written\n";
+      return 1;
+    }
+    log << "read " << input.scans.size() << " scans to map (" << input.duration << " s) from";
     for (size_t t = 0; t < input.topics.size(); ++t) {
       log << ' ' << input.topics[t] << " (" << input.scans_per_topic[t] << ")";
     }

@@ -212,6 +212,24 @@ void writeSummaryJson(const std::string& path, const RunSummary& summary) {
     json.key(input.topics[t]).value(input.scans_per_topic[t]);
   }
   json.endObject();
+  json.key("read").value(input.scansRead());
+  // Scans read but not mapped: per topic and reason (BagInputOptions' reasons).
+  json.key("skipped").beginObject();
+  json.key("total").value(input.scansSkipped());
+  json.key("per_topic").beginObject();
+  for (size_t t = 0; t < input.topics.size(); ++t) {
+    json.key(input.topics[t]).beginObject();
+    for (const auto& [reason, tally] : input.skipped) {
+      if (tally.per_topic[t] > 0) json.key(reason).value(tally.per_topic[t]);
+    }
+    json.endObject();
+  }
+  json.endObject();
+  json.key("per_reason").beginObject();
+  for (const auto& [reason, tally] : input.skipped)
+    json.key(reason).value(tally.total);
+  json.endObject();
+  json.endObject();
   json.key("missing_topics").beginArray();
   for (const std::string& topic : input.missing_topics)
     json.value(topic);

@@ -1,13 +1,18 @@
 #include "reflectance_field_map/ros/map_files.h"
 
+#include "reflectance_field_map/core/state_file.h"
 #include "reflectance_field_map/ros/conversions.h"
 
+#include <unistd.h>
+
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iomanip>
 #include <limits>
 #include <sstream>
+#include <utility>
 
 namespace rfm::ros_glue {
 namespace {
@@ -25,6 +30,37 @@ std::string baseName(const std::string& path) {
   const size_t slash = path.rfind('/');
   return slash == std::string::npos ? path : path.substr(slash + 1);
 }
+
+// A file written beside its final name and renamed over it once complete, so that an earlier file
+// of that name survives a failed write or a crash mid-way whole.
+class ReplacingFile {
+ public:
+  explicit ReplacingFile(std::string path)
+      : path_(std::move(path)),
+        part_(path_ + ".part" + std::to_string(static_cast<long>(::getpid()))),
+        out_(part_, std::ios::binary | std::ios::trunc) {}
+  ~ReplacingFile() {
+    if (!committed_) std::remove(part_.c_str());
+  }
+  std::ofstream& stream() { return out_; }
+  bool open() const { return static_cast<bool>(out_); }
+  // Flushes, closes and renames the file into place. False with `error` set on failure.
+  bool commit(std::string* error) {
+    out_.flush();
+    out_.close();
+    if (!out_) return fail(error, "cannot write " + path_ + ": " + reason());
+    if (std::rename(part_.c_str(), path_.c_str()) != 0) {
+      return fail(error, "cannot write " + path_ + ": " + reason());
+    }
+    committed_ = true;
+    return true;
+  }
+
+ private:
+  std::string path_, part_;
+  std::ofstream out_;
+  bool committed_ = false;
+};
 
 bool endsWith(const std::string& text, const std::string& suffix) {
   return text.size() >= suffix.size() &&
@@ -45,8 +81,9 @@ bool writeMapServerFiles(const std::string& prefix, const nav_msgs::OccupancyGri
   const std::string yaml_path = prefix + ".yaml";
   {
     errno = 0;
-    std::ofstream pgm(pgm_path, std::ios::binary | std::ios::trunc);
-    if (!pgm) return fail(error, "cannot write " + pgm_path + ": " + reason());
+    ReplacingFile file(pgm_path);
+    if (!file.open()) return fail(error, "cannot write " + pgm_path + ": " + reason());
+    std::ofstream& pgm = file.stream();
     pgm << "P5\n# CREATOR: reflectance_field_map " << grid.info.resolution << " m/pix\n"
         << width << ' ' << height << "\n255\n";
     std::string row(width, '\0');
@@ -66,13 +103,13 @@ bool writeMapServerFiles(const std::string& prefix, const nav_msgs::OccupancyGri
       }
       pgm.write(row.data(), static_cast<std::streamsize>(row.size()));
     }
-    pgm.flush();
-    if (!pgm) return fail(error, "cannot write " + pgm_path + ": " + reason());
+    if (!file.commit(error)) return false;
   }
   {
     errno = 0;
-    std::ofstream yaml(yaml_path, std::ios::trunc);
-    if (!yaml) return fail(error, "cannot write " + yaml_path + ": " + reason());
+    ReplacingFile file(yaml_path);
+    if (!file.open()) return fail(error, "cannot write " + yaml_path + ": " + reason());
+    std::ofstream& yaml = file.stream();
     const double yaw = yawFromQuaternion(grid.info.origin.orientation);
     // resolution is a float32 in the message: 6 significant digits print 0.05 as 0.05.
     yaml << "image: " << baseName(pgm_path) << "\n"
@@ -83,8 +120,7 @@ bool writeMapServerFiles(const std::string& prefix, const nav_msgs::OccupancyGri
          << "negate: 0\n"
          << "occupied_thresh: 0.65\n"
          << "free_thresh: 0.196\n";
-    yaml.flush();
-    if (!yaml) return fail(error, "cannot write " + yaml_path + ": " + reason());
+    if (!file.commit(error)) return false;
   }
   return true;
 }
@@ -95,13 +131,13 @@ std::string stateFilePath(const std::string& prefix) {
 
 bool writeMapperState(const std::string& prefix, const rfm::Mapper& mapper, std::string* error) {
   const std::string path = stateFilePath(prefix);
+  std::ostringstream payload;
+  mapper.save(payload);
   errno = 0;
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) return fail(error, "cannot write " + path + ": " + reason());
-  mapper.save(out);
-  out.flush();
-  if (!out) return fail(error, "cannot write " + path + ": " + reason());
-  return true;
+  ReplacingFile file(path);
+  if (!file.open()) return fail(error, "cannot write " + path + ": " + reason());
+  rfm::writeStateFile(file.stream(), payload.str());
+  return file.commit(error);
 }
 
 bool saveMapFiles(const std::string& prefix, const rfm::Mapper& mapper, const std::string& frame,
@@ -117,8 +153,13 @@ bool loadMapperState(const std::string& path, rfm::Mapper& mapper, std::string* 
   errno = 0;
   std::ifstream in(file, std::ios::binary);
   if (!in) return fail(error, "cannot read " + file + ": " + reason());
-  if (!mapper.load(in)) {
-    return fail(error, file + " is not a compatible saved state (different options or version?)");
+  std::string payload, why;
+  if (!rfm::readStateFile(in, kMaxStateFileBytes, payload, &why)) {
+    return fail(error, file + " refused: " + why);
+  }
+  std::istringstream state(std::move(payload));
+  if (!mapper.load(state)) {
+    return fail(error, file + " is intact but not a state of this mapper (different options?)");
   }
   return true;
 }

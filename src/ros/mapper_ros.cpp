@@ -11,7 +11,6 @@
 #include <boost/bind/bind.hpp>
 
 #include <chrono>
-#include <cstdlib>
 #include <functional>
 #include <limits>
 #include <sstream>
@@ -24,30 +23,19 @@ constexpr char kMapUpdatesTopic[] = "/rfm/map_updates";
 constexpr char kGlassMarkersTopic[] = "/rfm/glass_markers";
 constexpr char kMotionMarkersTopic[] = "/rfm/motion_markers";
 constexpr char kStatsTopic[] = "/rfm/stats";
+// Scans a topic's subscriber holds while the mapper is busy (a motion-removal pass that finds new
+// glass re-processes its buffered scans): 2.5 s of a 40 Hz lidar. Scans beyond it are dropped by
+// roscpp and counted from the gaps in header.seq.
+constexpr uint32_t kSubscriberQueue = 100;
 
 double elapsedMs(const std::chrono::steady_clock::time_point& start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
       .count();
 }
 
-// "~/x" -> "$HOME/x".
-std::string expandHome(const std::string& path) {
-  const char* home = std::getenv("HOME");
-  if (home != nullptr && path.size() >= 2 && path[0] == '~' && path[1] == '/') {
-    return std::string(home) + path.substr(1);
-  }
-  return path;
-}
-
-const char* failureName(tf2_ros::FilterFailureReason reason) {
-  switch (reason) {
-    case tf2_ros::filter_failure_reasons::OutTheBack:
-      return "older than the TF buffer";
-    case tf2_ros::filter_failure_reasons::EmptyFrameID:
-      return "empty frame_id";
-    default:
-      return "TF did not arrive before the queue overflowed";
-  }
+// tf2's words for a transform that can never come: the buffer has moved past the stamp.
+bool olderThanBuffer(const std::string& tf_error) {
+  return tf_error.find("extrapolation into the past") != std::string::npos;
 }
 
 }  // namespace
@@ -67,10 +55,9 @@ MapperRos::~MapperRos() {
   stats_timer_.stop();
   watchdog_timer_.stop();
   diagnostics_timer_.stop();
-  for (auto& input : inputs_) {
-    input->subscriber.unsubscribe();
-    input->tf_filter.reset();
-  }
+  tf_wait_timer_.stop();
+  for (auto& input : inputs_)
+    input->subscriber.shutdown();
 }
 
 std::string MapperRos::describeParameterError(const rfm::InvalidOption& error) {
@@ -83,6 +70,8 @@ void MapperRos::setParams() {
     ROS_WARN("rfm: ignoring unknown parameter ~%s (see config/default.yaml)", name.c_str());
   }
   mapper_ = std::make_unique<rfm::Mapper>(params_.mapper);
+  pose_gate_ = std::make_unique<rfm::PoseGate>(params_.max_robot_speed, rfm::kPoseJumpSlack);
+  map_directory_ = std::make_unique<MapDirectory>(params_.map_directory);
   std::ostringstream topics;
   for (const std::string& topic : params_.scan_topics)
     topics << ' ' << topic;
@@ -92,6 +81,8 @@ void MapperRos::setParams() {
       params_.fixed_frame.c_str(), params_.base_frame.c_str(), topics.str().c_str(),
       params_.mapper.grid.resolution, params_.mapper.grid.theta_bins,
       params_.mapper.active_region.active_region_radius);
+  ROS_INFO("rfm: poses faster than %.1f m/s rejected, map up to %.0f m across, maps in %s",
+           params_.max_robot_speed, params_.max_map_extent, map_directory_->path().c_str());
 }
 
 void MapperRos::setRosInterfaces() {
@@ -115,17 +106,10 @@ void MapperRos::setRosInterfaces() {
     in.labels_pub =
         nh_.advertise<reflectance_field_map::RayLabels>("/rfm/" + in.leaf + "/labels", 10);
 
-    in.tf_filter =
-        std::make_unique<ScanFilter>(in.valid, *tf_buffer_, params_.fixed_frame, queue, nh_);
-    in.tf_filter->setTolerance(ros::Duration(params_.tf_tolerance));
-    in.tf_filter->registerCallback(
-        [this, &in](const sensor_msgs::LaserScanConstPtr& msg) { processScan(in, msg); });
-    in.tf_filter->registerFailureCallback(
-        [this, &in](const sensor_msgs::LaserScanConstPtr& msg,
-                    tf2_ros::FilterFailureReason reason) { tfFailure(in, msg, reason); });
-    in.subscriber.registerCallback(
-        [this, &in](const sensor_msgs::LaserScanConstPtr& msg) { incomingScan(in, msg); });
-    in.subscriber.subscribe(nh_, in.topic, std::max<uint32_t>(10, queue));
+    in.subscriber = nh_.subscribe<sensor_msgs::LaserScan>(
+        in.topic, std::max<uint32_t>(kSubscriberQueue, queue),
+        boost::function<void(const sensor_msgs::LaserScanConstPtr&)>(
+            [this, &in](const sensor_msgs::LaserScanConstPtr& msg) { incomingScan(in, msg); }));
     inputs_.push_back(std::move(input));
   }
 
@@ -146,6 +130,8 @@ void MapperRos::setRosInterfaces() {
                                  &MapperRos::statsTimer, this);
   // Wall timers keep running when simulated time stops or jumps.
   watchdog_timer_ = nh_.createWallTimer(ros::WallDuration(0.25), &MapperRos::watchdogTimer, this);
+  // Scans waiting for late transforms are looked at again this often.
+  tf_wait_timer_ = nh_.createWallTimer(ros::WallDuration(0.02), &MapperRos::tfWaitTimer, this);
 
   std::lock_guard<std::mutex> lock(mapper_mutex_);
   publishFullMapLocked();
@@ -183,34 +169,77 @@ void MapperRos::incomingScan(ScanInput& input, const sensor_msgs::LaserScanConst
   }
   input.last_seq = seq;
   checkTimeJump();
-  // A scan older than the newest of its topic by more than the threshold: a bag restarted
-  // without --clock, or a driver whose clock jumped.
-  if (!input.last_stamp.isZero() &&
-      msg->header.stamp + ros::Duration(params_.time_jump_threshold) < input.last_stamp) {
-    std::ostringstream why;
-    why << "scan on " << input.topic << " stamped "
-        << (input.last_stamp - msg->header.stamp).toSec() << " s before the previous one";
-    resetAfterTimeJump(why.str());
+  // A scan stamped before the previous one on its topic (a driver's clock stepping back, a bag
+  // replayed without --clock, a message re-sent late) is dropped: the map stays.
+  const ros::Time previous = input.last_stamp;
+  input.last_stamp = msg->header.stamp;
+  if (!previous.isZero() && msg->header.stamp < previous) {
+    dropScan(input, input.stale, stale_scans_);
+    ROS_WARN_THROTTLE(5.0,
+                      "rfm: dropped a stale scan on %s: stamped %.3f s before the previous one "
+                      "(%llu so far; the map is kept)",
+                      input.topic.c_str(), (previous - msg->header.stamp).toSec(),
+                      static_cast<unsigned long long>(stale_scans_.load()));
+    return;
   }
   const std::string problem = toLaserScan2D(*msg).validate();
   if (problem.empty() && !msg->header.frame_id.empty()) {
-    input.valid.add(msg);
+    input.waiting.push_back(msg);
+    if (input.waiting.size() > static_cast<size_t>(params_.tf_queue_size)) {
+      const sensor_msgs::LaserScanConstPtr oldest = input.waiting.front();
+      input.waiting.pop_front();
+      tfFailure(input, oldest, TfFailure::kQueueOverflow);
+    }
+    releaseWaiting(input);
     return;
   }
-  ++input.malformed;
-  ++malformed_scans_;
-  ++scans_dropped_;
+  dropScan(input, input.malformed, malformed_scans_);
   ROS_ERROR_THROTTLE(5.0, "rfm: rejected malformed scan on %s (frame '%s'): %s",
                      input.topic.c_str(), msg->header.frame_id.c_str(),
                      problem.empty() ? "empty frame_id" : problem.c_str());
 }
 
-void MapperRos::tfFailure(ScanInput& input, const sensor_msgs::LaserScanConstPtr& msg,
-                          tf2_ros::FilterFailureReason reason) {
-  ++input.tf_failures;
-  ++tf_failures_;
+void MapperRos::dropScan(ScanInput&, std::atomic<uint64_t>& reason_on_topic,
+                         std::atomic<uint64_t>& reason_total) {
+  ++reason_on_topic;
+  ++reason_total;
   ++scans_dropped_;
-  if (reason == tf2_ros::filter_failure_reasons::Unknown) ++queue_overflows_;
+}
+
+void MapperRos::releaseWaiting(ScanInput& input) {
+  // tf2_ros::MessageFilter can lose a scan whose transform arrives while it is being queued: the
+  // buffer is asked directly instead, in order, each time.
+  const ros::Duration tolerance(params_.tf_tolerance);
+  while (!input.waiting.empty()) {
+    const sensor_msgs::LaserScanConstPtr msg = input.waiting.front();
+    const std::string frame = normalizeFrame(msg->header.frame_id);
+    const ros::Time stamp = msg->header.stamp;
+    std::string error;
+    const bool ready =
+        tf_buffer_->canTransform(params_.fixed_frame, frame, stamp + tolerance, &error) &&
+        tf_buffer_->canTransform(params_.fixed_frame, params_.base_frame, stamp + tolerance,
+                                 &error) &&
+        tf_buffer_->canTransform(params_.fixed_frame, frame, stamp, &error) &&
+        tf_buffer_->canTransform(params_.fixed_frame, params_.base_frame, stamp, &error);
+    if (!ready && !olderThanBuffer(error)) return;  // its transform may still come
+    input.waiting.pop_front();
+    if (ready) {
+      processScan(input, msg);
+    } else {
+      tfFailure(input, msg, TfFailure::kOlderThanBuffer);
+    }
+  }
+}
+
+void MapperRos::tfWaitTimer(const ros::WallTimerEvent&) {
+  for (auto& input : inputs_)
+    releaseWaiting(*input);
+}
+
+void MapperRos::tfFailure(ScanInput& input, const sensor_msgs::LaserScanConstPtr& msg,
+                          TfFailure reason) {
+  dropScan(input, input.tf_failures, tf_failures_);
+  if (reason == TfFailure::kQueueOverflow) ++queue_overflows_;
   const std::string frame = normalizeFrame(msg->header.frame_id);
   // _frameExists is thread-safe (it locks the buffer).
   const bool known = !frame.empty() && tf_buffer_->_frameExists(frame);
@@ -221,7 +250,9 @@ void MapperRos::tfFailure(ScanInput& input, const sensor_msgs::LaserScanConstPtr
   } else {
     text << "no transform from '" << frame << "' to '" << params_.fixed_frame
          << "' at t=" << std::fixed << msg->header.stamp.toSec() << " for " << input.topic << " ("
-         << failureName(reason) << ")";
+         << (reason == TfFailure::kQueueOverflow ? "TF did not arrive before the queue overflowed"
+                                                 : "older than the TF buffer")
+         << ")";
   }
   {
     std::lock_guard<std::mutex> lock(counters_mutex_);
@@ -240,9 +271,7 @@ void MapperRos::processScan(ScanInput& input, const sensor_msgs::LaserScanConstP
     robot_tf =
         tf_buffer_->lookupTransform(params_.fixed_frame, params_.base_frame, msg->header.stamp);
   } catch (const tf2::TransformException& e) {
-    ++input.tf_failures;
-    ++tf_failures_;
-    ++scans_dropped_;
+    dropScan(input, input.tf_failures, tf_failures_);
     {
       std::lock_guard<std::mutex> lock(counters_mutex_);
       last_tf_error_ = e.what();
@@ -263,11 +292,10 @@ void MapperRos::processScan(ScanInput& input, const sensor_msgs::LaserScanConstP
   std::vector<rfm::RayLabel> labels;
   {
     std::lock_guard<std::mutex> lock(mapper_mutex_);
+    if (!admitPoseLocked(input, timed.stamp, timed.robot_pose.position)) return;
     const rfm::ScanUpdate update = mapper_->addScan(timed);
     if (!update.error.empty()) {
-      ++input.malformed;
-      ++malformed_scans_;
-      ++scans_dropped_;
+      dropScan(input, input.malformed, malformed_scans_);
       ROS_ERROR_THROTTLE(5.0, "rfm: rejected malformed scan on %s: %s", input.topic.c_str(),
                          update.error.c_str());
       return;
@@ -277,7 +305,6 @@ void MapperRos::processScan(ScanInput& input, const sensor_msgs::LaserScanConstP
       labels = mapper_->labelAddedScan(timed, update);
     }
   }
-  input.last_stamp = std::max(input.last_stamp, msg->header.stamp);
   ++input.processed;
   ++scans_processed_;
   if (want_labels) {
@@ -289,6 +316,54 @@ void MapperRos::processScan(ScanInput& input, const sensor_msgs::LaserScanConstP
       input.labels_pub.publish(toRayLabelsMsg(msg->header, input.topic, labels));
     }
   }
+}
+
+bool MapperRos::admitPoseLocked(ScanInput& input, double stamp, const Eigen::Vector2d& robot) {
+  if (!pose_gate_->accept(stamp, robot)) {
+    dropScan(input, input.pose_jumps, pose_jumps_);
+    const double jump = pose_gate_->lastRejectedJump();
+    {
+      std::lock_guard<std::mutex> lock(counters_mutex_);
+      last_pose_jump_m_ = jump;
+    }
+    ROS_WARN_THROTTLE(5.0,
+                      "rfm: rejected a robot pose %.1f m from the last one, faster than "
+                      "max_robot_speed %.1f m/s (%llu scans dropped so far; TF glitch?)",
+                      jump, params_.max_robot_speed,
+                      static_cast<unsigned long long>(pose_jumps_.load()));
+    return false;
+  }
+  const Eigen::Vector2d extent = extentWithLocked(robot);
+  if (extent.x() > params_.max_map_extent || extent.y() > params_.max_map_extent) {
+    dropScan(input, input.beyond_extent, beyond_extent_);
+    {
+      std::lock_guard<std::mutex> lock(counters_mutex_);
+      last_extent_m_ = extent;
+    }
+    ROS_ERROR_THROTTLE(5.0,
+                       "rfm: map extent limit reached: mapping at (%.1f, %.1f) would make the map "
+                       "%.0f x %.0f m, more than max_map_extent %.0f m; scan dropped (%llu so far)",
+                       robot.x(), robot.y(), extent.x(), extent.y(), params_.max_map_extent,
+                       static_cast<unsigned long long>(beyond_extent_.load()));
+    return false;
+  }
+  return true;
+}
+
+Eigen::Vector2d MapperRos::extentWithLocked(const Eigen::Vector2d& robot) const {
+  const double resolution = params_.mapper.grid.resolution;
+  // The active region around the robot, rounded out to the field's and the map's tiles.
+  const double reach = (mapper_->field().window().sizeCells() / 2 + params_.mapper.grid.tile_cells +
+                        mapper_->map().tileCells()) *
+                       resolution;
+  Eigen::Vector2d low = robot - Eigen::Vector2d(reach, reach);
+  Eigen::Vector2d high = robot + Eigen::Vector2d(reach, reach);
+  const rfm::CellBox box = mapper_->map().bounds();
+  if (!box.empty()) {
+    low = low.cwiseMin(box.min.cast<double>() * resolution);
+    high = high.cwiseMax(box.max.cast<double>() * resolution);
+  }
+  return high - low;
 }
 
 void MapperRos::motionRemovalTimer(const ros::TimerEvent&) {
@@ -387,7 +462,8 @@ void MapperRos::statsTimer(const ros::TimerEvent&) {
   msg.header.stamp = ros::Time::now();
   msg.header.frame_id = params_.fixed_frame;
   msg.scans_processed = scans_processed_;
-  msg.scans_dropped = scans_dropped_ + transport_drops_;  // rejected, without TF, or lost in queues
+  // Every reason: malformed, without TF, stale, pose jump, map extent, lost in queues.
+  msg.scans_dropped = scans_dropped_ + transport_drops_;
   stats_pub_.publish(msg);
 }
 
@@ -405,20 +481,26 @@ bool MapperRos::checkTimeJump() {
       newest_time_ = now;
     }
   }
-  if (jumped) {
-    std::ostringstream why;
-    why << "ROS time jumped back by " << back << " s";
-    resetAfterTimeJump(why.str());
-  }
+  if (jumped) resetAfterTimeJump(back);
   return jumped;
 }
 
-void MapperRos::resetAfterTimeJump(const std::string& why) {
+void MapperRos::resetAfterTimeJump(double seconds_back) {
   ++time_jumps_;
-  ROS_WARN("rfm: %s (a looping bag?): clearing the TF buffer and resetting the map", why.c_str());
+  {
+    std::lock_guard<std::mutex> lock(counters_mutex_);
+    last_time_jump_s_ = seconds_back;
+  }
+  ROS_WARN(
+      "rfm: ROS time jumped back by %.3f s (a looping bag?): clearing the TF buffer and "
+      "resetting the map",
+      seconds_back);
   tf_buffer_->clear();  // static transforms survive a clear
   for (auto& input : inputs_) {
-    input->tf_filter->clear();
+    // Scans of the time before the jump can no longer be placed.
+    scans_dropped_ += input->waiting.size();
+    time_jump_drops_ += input->waiting.size();
+    input->waiting.clear();
     input->last_stamp = ros::Time();
     input->last_seq = 0;
     if (input->rate) input->rate->clear();
@@ -429,6 +511,7 @@ void MapperRos::resetAfterTimeJump(const std::string& why) {
 
 void MapperRos::resetMapperLocked() {
   mapper_->reset();
+  pose_gate_->reset();
   scans_since_motion_removal_ = 0;
   map_published_ = false;
   publishFullMapLocked();
@@ -445,9 +528,14 @@ void MapperRos::diagnosticsTimer(const ros::WallTimerEvent&) {
 
 bool MapperRos::saveMap(reflectance_field_map::SaveMap::Request& request,
                         reflectance_field_map::SaveMap::Response& response) {
-  const std::string prefix = expandHome(request.path);
-  std::string error;
-  {
+  std::string prefix, error;
+  response.success = map_directory_->resolve(request.path, true, prefix, &error);
+  for (const char* suffix : {".pgm", ".yaml", ""}) {
+    if (!response.success) break;
+    const std::string file = *suffix ? prefix + suffix : stateFilePath(prefix);
+    response.success = map_directory_->holds(file, &error);
+  }
+  if (response.success) {
     std::lock_guard<std::mutex> lock(mapper_mutex_);
     // Classify what arrived since the last pass so the files hold every scan so far.
     if (scans_since_motion_removal_ > 0) {
@@ -468,23 +556,42 @@ bool MapperRos::saveMap(reflectance_field_map::SaveMap::Request& request,
 
 bool MapperRos::loadMap(reflectance_field_map::LoadMap::Request& request,
                         reflectance_field_map::LoadMap::Response& response) {
-  const std::string path = expandHome(request.path);
-  std::string error;
-  {
-    std::lock_guard<std::mutex> lock(mapper_mutex_);
-    response.success = loadMapperState(path, *mapper_, &error);
-    if (response.success) {
-      scans_since_motion_removal_ = 0;
-      map_published_ = false;
-      publishFullMapLocked();
-      publishMarkersLocked();
+  std::string path, error;
+  response.success = map_directory_->resolve(request.path, false, path, &error) &&
+                     map_directory_->holds(stateFilePath(path), &error);
+  // Loaded beside the running mapper, which keeps mapping until the state is known good.
+  std::unique_ptr<rfm::Mapper> loaded;
+  if (response.success) {
+    loaded = std::make_unique<rfm::Mapper>(params_.mapper);
+    response.success = loadMapperState(path, *loaded, &error);
+  }
+  if (response.success) {
+    const rfm::CellBox box = loaded->map().bounds();
+    const double resolution = params_.mapper.grid.resolution;
+    const double width = box.empty() ? 0.0 : box.width() * resolution;
+    const double height = box.empty() ? 0.0 : box.height() * resolution;
+    if (width > params_.max_map_extent || height > params_.max_map_extent) {
+      std::ostringstream why;
+      why << stateFilePath(path) << " holds a map of " << width << " x " << height
+          << " m, more than max_map_extent " << params_.max_map_extent << " m";
+      error = why.str();
+      response.success = false;
     }
+  }
+  if (response.success) {
+    std::lock_guard<std::mutex> lock(mapper_mutex_);
+    mapper_.swap(loaded);  // the old mapper goes when `loaded` does, outside the lock
+    pose_gate_->reset();
+    scans_since_motion_removal_ = 0;
+    map_published_ = false;
+    publishFullMapLocked();
+    publishMarkersLocked();
   }
   if (response.success) {
     response.message = "resumed from " + stateFilePath(path);
     ROS_INFO("rfm: %s", response.message.c_str());
   } else {
-    response.message = "load_map failed: " + error;
+    response.message = "load_map failed (the map is unchanged): " + error;
     ROS_ERROR("rfm: %s", response.message.c_str());
   }
   return true;
@@ -501,21 +608,31 @@ bool MapperRos::reset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& 
 
 void MapperRos::diagnoseInput(diagnostic_updater::DiagnosticStatusWrapper& status) {
   const uint64_t malformed = malformed_scans_;
+  const uint64_t stale = stale_scans_;
   if (malformed > malformed_reported_) {
     status.summaryf(diagnostic_msgs::DiagnosticStatus::ERROR, "%llu malformed scans rejected",
                     static_cast<unsigned long long>(malformed - malformed_reported_));
+  } else if (stale > stale_reported_) {
+    status.summaryf(diagnostic_msgs::DiagnosticStatus::WARN,
+                    "%llu stale scans dropped (stamped before the previous scan on their topic; "
+                    "the map is kept)",
+                    static_cast<unsigned long long>(stale - stale_reported_));
   } else {
     status.summary(diagnostic_msgs::DiagnosticStatus::OK, "scans well formed");
   }
   malformed_reported_ = malformed;
+  stale_reported_ = stale;
   for (const auto& input : inputs_) {
     std::ostringstream value;
     value << input->received << " received, " << input->processed << " processed, "
           << input->malformed << " malformed, " << input->tf_failures << " without TF, "
-          << input->transport_drops << " lost in the subscriber queue";
+          << input->stale << " stale, " << input->pose_jumps << " at a pose jump, "
+          << input->beyond_extent << " beyond the map extent limit, " << input->transport_drops
+          << " lost in the subscriber queue";
     status.add(input->topic, value.str());
   }
   status.add("Scans dropped (total)", scans_dropped_.load());
+  status.add("Stale scans dropped (total)", stale);
   status.add("TF queue overflows (total)", queue_overflows_.load());
   const uint64_t lost = transport_drops_;
   status.add("Scans lost in subscriber queues (total)", lost);
@@ -556,14 +673,46 @@ void MapperRos::diagnoseMapper(diagnostic_updater::DiagnosticStatusWrapper& stat
     std::lock_guard<std::mutex> lock(mapper_mutex_);
     stats = mapper_->stats();
     status.add("Publish time (ms)", last_publish_ms_);
+    const rfm::CellBox box = mapper_->map().bounds();
+    const double resolution = params_.mapper.grid.resolution;
+    std::ostringstream size;
+    size << (box.empty() ? 0.0 : box.width() * resolution) << " x "
+         << (box.empty() ? 0.0 : box.height() * resolution) << " (limit " << params_.max_map_extent
+         << ")";
+    status.add("Map extent (m)", size.str());
+    status.add("Explored map memory (bytes)", mapper_->map().bytes());
   }
-  const uint64_t jumps = time_jumps_;
-  if (jumps > time_jumps_reported_) {
-    status.summary(diagnostic_msgs::DiagnosticStatus::WARN, "ROS time jumped back: map reset");
+  const uint64_t jumps = time_jumps_, pose_jumps = pose_jumps_, beyond = beyond_extent_;
+  double time_back = 0.0, pose_jump = 0.0;
+  Eigen::Vector2d extent;
+  {
+    std::lock_guard<std::mutex> lock(counters_mutex_);
+    time_back = last_time_jump_s_;
+    pose_jump = last_pose_jump_m_;
+    extent = last_extent_m_;
+  }
+  // The worst news of the period first: a limit reached, a reset, rejected poses.
+  if (beyond > beyond_extent_reported_) {
+    status.summaryf(diagnostic_msgs::DiagnosticStatus::ERROR,
+                    "map extent limit reached: %llu scans dropped that would make the map %.0f x "
+                    "%.0f m (max_map_extent %.0f m)",
+                    static_cast<unsigned long long>(beyond - beyond_extent_reported_), extent.x(),
+                    extent.y(), params_.max_map_extent);
+  } else if (jumps > time_jumps_reported_) {
+    status.summaryf(diagnostic_msgs::DiagnosticStatus::WARN,
+                    "ROS time jumped back by %.3f s: map reset", time_back);
+  } else if (pose_jumps > pose_jumps_reported_) {
+    status.summaryf(diagnostic_msgs::DiagnosticStatus::WARN,
+                    "%llu scans dropped at a pose jump (last %.1f m, faster than max_robot_speed "
+                    "%.1f m/s)",
+                    static_cast<unsigned long long>(pose_jumps - pose_jumps_reported_), pose_jump,
+                    params_.max_robot_speed);
   } else {
     status.summary(diagnostic_msgs::DiagnosticStatus::OK, "mapping");
   }
   time_jumps_reported_ = jumps;
+  pose_jumps_reported_ = pose_jumps;
+  beyond_extent_reported_ = beyond;
   status.add("Scans processed", scans_processed_.load());
   status.add("Scan insertion time (ms)", stats.last_insert_ms);
   status.add("Reflection check time (ms)", stats.last_reflection_ms);
@@ -573,6 +722,9 @@ void MapperRos::diagnoseMapper(diagnostic_updater::DiagnosticStatusWrapper& stat
   status.add("Field memory (bytes)", stats.field_bytes);
   status.add("Archived memory (bytes)", stats.archived_bytes);
   status.add("Time jumps (total)", jumps);
+  status.add("Scans dropped at a time jump (total)", time_jump_drops_.load());
+  status.add("Scans dropped at a pose jump (total)", pose_jumps);
+  status.add("Scans dropped beyond the map extent limit (total)", beyond);
 }
 
 }  // namespace rfm::ros_glue

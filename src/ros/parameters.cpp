@@ -109,12 +109,11 @@ void readTopics(const ros::NodeHandle& nh, const std::string& name, std::vector<
 
 const std::vector<std::string>& nodeParameterNames() {
   static const std::vector<std::string> names = {
-      "scan_topics",         "fixed_frame",
-      "base_frame",          "map_publish_rate",
-      "marker_publish_rate", "stats_publish_rate",
-      "tf_tolerance",        "tf_queue_size",
-      "min_scan_rate",       "max_scan_rate",
-      "time_jump_threshold", "diagnostic_period"};  // diagnostic_period: read by diagnostic_updater
+      "scan_topics",         "fixed_frame",        "base_frame",          "map_publish_rate",
+      "marker_publish_rate", "stats_publish_rate", "tf_tolerance",        "tf_queue_size",
+      "min_scan_rate",       "max_scan_rate",      "time_jump_threshold", "max_robot_speed",
+      "max_map_extent",      "map_directory",      "diagnostic_period"};  // diagnostic_period: read
+                                                                          // by diagnostic_updater
   return names;
 }
 
@@ -165,7 +164,15 @@ void RosParameters::validate() const {
   requireRange("min_scan_rate", min_scan_rate, 0.0, 10000.0);
   requireRange("max_scan_rate", max_scan_rate, min_scan_rate, 1e6, true);
   requireRange("time_jump_threshold", time_jump_threshold, 0.0, 3600.0);
+  requireRange("max_robot_speed", max_robot_speed, 0.0, 1000.0, true);
+  if (map_directory.empty()) {
+    throw rfm::InvalidOption("map_directory", "\"\"", "a directory path");
+  }
   mapper.validate();
+  // The map must hold at least one active region around the robot (and a tile either side).
+  const double region = 2.0 * (mapper.active_region.active_region_radius +
+                               mapper.grid.tile_cells * mapper.grid.resolution);
+  requireRange("max_map_extent", max_map_extent, region, 100000.0);
 }
 
 RosParameters readParameters(const ros::NodeHandle& private_nh) {
@@ -181,6 +188,9 @@ RosParameters readParameters(const ros::NodeHandle& private_nh) {
   readDouble(private_nh, "min_scan_rate", params.min_scan_rate);
   readDouble(private_nh, "max_scan_rate", params.max_scan_rate);
   readDouble(private_nh, "time_jump_threshold", params.time_jump_threshold);
+  readDouble(private_nh, "max_robot_speed", params.max_robot_speed);
+  readDouble(private_nh, "max_map_extent", params.max_map_extent);
+  readString(private_nh, "map_directory", params.map_directory);
 
   for (const rfm::OptionField& field : rfm::optionFields()) {
     double value = rfm::getOption(params.mapper, field.name);

@@ -21,6 +21,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -31,6 +32,7 @@ namespace fs = std::filesystem;
 
 constexpr int kBeams = 181;
 constexpr int kScansPerTopic = 20;
+constexpr uint32_t kHugeBeams = (1u << 21) + 2048;  // more bytes than any scan rfm_offline takes
 const double kStart = 1000.0;
 
 struct RunResult {
@@ -80,19 +82,29 @@ double robotX(double t) {
   return -0.5 + 0.5 * (t - kStart);
 }
 
+// What a test bag holds besides the plain drive.
+struct BagShape {
+  bool with_tf = true;
+  double tf_from = kStart - 0.2;          // the first odom transform
+  double jump_from = 0.0, jump_to = 0.0;  // odom puts the robot 370 m away in [from, to)
+  // Changes scan i (0..kScansPerTopic-1) of the rear or front lidar before it is written.
+  std::function<void(int i, bool rear, sensor_msgs::LaserScan& scan)> edit;
+};
+
 // Two lidars on a robot driving along x in a square room. The rear lidar looks backwards and
 // reports its beams clockwise (negative angle_increment). Beam 0 of every scan is NaN.
-// With `short_scan` >= 0, that scan of each lidar lost the second half of its ranges.
-void writeRobotBag(const std::string& path, bool with_tf, int short_scan = -1) {
+void writeRobotBag(const std::string& path, const BagShape& shape) {
   rosbag::Bag bag(path, rosbag::bagmode::Write);
-  if (with_tf) {
+  if (shape.with_tf) {
     tf2_msgs::TFMessage statics;
     statics.transforms.push_back(transform("base_link", "laser_front", kStart, 0.2, 0.0, 0.0));
     statics.transforms.push_back(transform("base_link", "laser_rear", kStart, -0.2, 0.0, M_PI));
     bag.write("/tf_static", ros::Time(kStart - 0.3), statics);
-    for (double t = kStart - 0.2; t < kStart + 2.25; t += 0.02) {
+    for (double t = shape.tf_from; t < kStart + 2.25; t += 0.02) {
+      const bool jumped = t >= shape.jump_from && t < shape.jump_to;
       tf2_msgs::TFMessage odom;
-      odom.transforms.push_back(transform("odom", "base_link", t, robotX(t), 0.0, 0.0));
+      odom.transforms.push_back(
+          transform("odom", "base_link", t, robotX(t) + (jumped ? 370.0 : 0.0), 0.0, 0.0));
       bag.write("/tf", ros::Time(t), odom);
     }
   }
@@ -116,11 +128,23 @@ void writeRobotBag(const std::string& path, bool with_tf, int short_scan = -1) {
         scan.ranges.push_back(b == 0 ? std::numeric_limits<float>::quiet_NaN()
                                      : roomRange(lx, 0.0, angle));
       }
-      if (i == short_scan) scan.ranges.resize(kBeams / 2);
+      if (shape.edit) shape.edit(i, rear, scan);
       bag.write(rear ? "/scan_rear" : "/scan_front", ros::Time(t + 0.001), scan);
     }
   }
   bag.close();
+}
+
+// With `short_scan` >= 0, that scan of each lidar lost the second half of its ranges.
+void writeRobotBag(const std::string& path, bool with_tf, int short_scan = -1) {
+  BagShape shape;
+  shape.with_tf = with_tf;
+  if (short_scan >= 0) {
+    shape.edit = [short_scan](int i, bool, sensor_msgs::LaserScan& scan) {
+      if (i == short_scan) scan.ranges.resize(kBeams / 2);
+    };
+  }
+  writeRobotBag(path, shape);
 }
 
 class OfflineEndToEnd : public ::testing::Test {
@@ -327,21 +351,160 @@ TEST_F(OfflineEndToEnd, MissingTransformsAreCounted) {
   EXPECT_NE(run.output.find("--base-frame"), std::string::npos) << run.output;
 }
 
-// A scan with fewer ranges than its angles say would put every beam at a wrong bearing. The bag
-// is read in two halves side by side: short scans early (t = 1000.3) and late (t = 1001.5) are
-// both found and counted once.
-TEST_F(OfflineEndToEnd, ScansWithTooFewRangesAreRejected) {
+uint64_t labelMessages(const std::string& labels_bag) {
+  rosbag::Bag bag(labels_bag);
+  return rosbag::View(bag).size();
+}
+
+// A scan with fewer ranges than its angles say would put every beam at a wrong bearing: it is
+// skipped and counted, the others are mapped. The bag is read in two halves side by side: short
+// scans early (t = 1000.3) and late (t = 1001.5) are both found and counted once.
+TEST_F(OfflineEndToEnd, ScansWithTooFewRangesAreSkippedAndCounted) {
   for (const int short_scan : {3, 15}) {
     SCOPED_TRACE("short scan " + std::to_string(short_scan));
     writeRobotBag(path("in.bag"), true, short_scan);
     const RunResult run = runOffline("--bag " + path("in.bag") + " --out " + path("out"));
-    EXPECT_EQ(run.code, 1) << run.output;
-    EXPECT_NE(run.output.find("2 of 40 scans are malformed"), std::string::npos) << run.output;
-    EXPECT_NE(run.output.find("/scan_front: 1 of 20"), std::string::npos) << run.output;
-    EXPECT_NE(run.output.find("/scan_rear: 1 of 20"), std::string::npos) << run.output;
+    ASSERT_EQ(run.code, 0) << run.output;
+    EXPECT_NE(run.output.find("warning: skipped 2 of 40 scans are malformed (malformed): "
+                              "/scan_front: 1 of 20; /scan_rear: 1 of 20;"),
+              std::string::npos)
+        << run.output;
     EXPECT_NE(run.output.find("90 ranges"), std::string::npos) << run.output;
+    EXPECT_EQ(labelMessages(path("out/labels.bag")), 38u);
+    const YAML::Node summary = YAML::LoadFile(path("out/summary.json"));
+    EXPECT_EQ(summary["scans"]["total"].as<int>(), 38);
+    EXPECT_EQ(summary["scans"]["read"].as<int>(), 40);
+    EXPECT_EQ(summary["scans"]["skipped"]["total"].as<int>(), 2);
+    EXPECT_EQ(summary["scans"]["skipped"]["per_topic"]["/scan_rear"]["malformed"].as<int>(), 1);
+    EXPECT_EQ(summary["scans"]["skipped"]["per_reason"]["malformed"].as<int>(), 2);
+
+    // --strict: the same skip fails the run, and nothing is written.
+    fs::remove_all(path("out"));
+    const RunResult strict =
+        runOffline("--bag " + path("in.bag") + " --out " + path("out") + " --strict");
+    EXPECT_EQ(strict.code, 1) << strict.output;
+    EXPECT_NE(strict.output.find("error: skipped 2 of 40"), std::string::npos) << strict.output;
     EXPECT_FALSE(fs::exists(path("out/labels.bag")));
   }
+}
+
+// The recording starts before its odometry (a driver up before TF): those scans are skipped,
+// per topic, and the rest mapped.
+TEST_F(OfflineEndToEnd, ScansBeforeTheFirstTransformAreSkipped) {
+  BagShape shape;
+  shape.tf_from = kStart + 0.375;  // scans at 1000.0-1000.35 (4 per lidar) precede it
+  writeRobotBag(path("in.bag"), shape);
+  const RunResult run = runOffline("--bag " + path("in.bag") + " --out " + path("out"));
+  ASSERT_EQ(run.code, 0) << run.output;
+  expectOutputs(path("out"));
+  EXPECT_NE(run.output.find("skipped 8 of 40 scans have no transform into the fixed frame at "
+                            "their stamp (no_transform): /scan_front: 4 of 20; /scan_rear: 4 of "
+                            "20;"),
+            std::string::npos)
+      << run.output;
+  EXPECT_EQ(labelMessages(path("out/labels.bag")), 32u);
+  const YAML::Node summary = YAML::LoadFile(path("out/summary.json"));
+  EXPECT_EQ(summary["scans"]["skipped"]["per_topic"]["/scan_front"]["no_transform"].as<int>(), 4);
+  EXPECT_EQ(summary["scans"]["per_topic"]["/scan_front"].as<int>(), 16);
+}
+
+// Every kind of malformed scan the issue lists, once each: all skipped under one reason.
+TEST_F(OfflineEndToEnd, MalformedScansOfEveryKindAreSkipped) {
+  BagShape shape;
+  shape.edit = [](int i, bool rear, sensor_msgs::LaserScan& scan) {
+    if (rear) return;
+    if (i == 2) scan.angle_increment = 0.0f;
+    if (i == 4) std::swap(scan.range_min, scan.range_max);
+    if (i == 6) scan.ranges.clear();
+    if (i == 8) scan.header.frame_id.clear();
+    if (i == 10) scan.ranges.push_back(1.0f);  // one more range than its angles
+  };
+  writeRobotBag(path("in.bag"), shape);
+  const RunResult run = runOffline("--bag " + path("in.bag") + " --out " + path("out"));
+  ASSERT_EQ(run.code, 0) << run.output;
+  EXPECT_NE(
+      run.output.find("skipped 5 of 40 scans are malformed (malformed): /scan_front: 5 of 20;"),
+      std::string::npos)
+      << run.output;
+  EXPECT_EQ(labelMessages(path("out/labels.bag")), 35u);
+}
+
+// A TF glitch puts the robot 370 m away for half a second: its scans are skipped as pose jumps
+// and the map stays the room's size (it took 2.2 GB when the jump was mapped).
+TEST_F(OfflineEndToEnd, APoseJumpIsSkippedAndNeverGrowsTheMap) {
+  BagShape shape;
+  // Between odom samples (every 20 ms from 999.8 s): scans at 1000.8-1001.25 s jump.
+  shape.jump_from = kStart + 0.785;
+  shape.jump_to = kStart + 1.285;
+  writeRobotBag(path("in.bag"), shape);
+  const RunResult run = runOffline("--bag " + path("in.bag") + " --out " + path("out"));
+  ASSERT_EQ(run.code, 0) << run.output;
+  EXPECT_NE(run.output.find("(pose_jump): /scan_front: 5 of 20; /scan_rear: 5 of 20;"),
+            std::string::npos)
+      << run.output;
+  const YAML::Node summary = YAML::LoadFile(path("out/summary.json"));
+  EXPECT_LT(summary["map"]["size_m"][0].as<double>(), 30.0);
+  EXPECT_EQ(summary["scans"]["skipped"]["per_reason"]["pose_jump"].as<int>(), 10);
+}
+
+// Bytes of a LaserScan whose intensities claim 1,415,586,763 elements (the issue's mutation
+// that took 5.5 GB), and a scan larger than any beam count needs: skipped, nothing allocated
+// from their lengths.
+TEST_F(OfflineEndToEnd, CorruptLengthsAndOversizedScansAreSkippedUnread) {
+  const float kMarker = 12345.678f;
+  BagShape shape;
+  shape.edit = [&](int i, bool rear, sensor_msgs::LaserScan& scan) {
+    if (rear && i == 7) scan.intensities.assign(3, kMarker);
+    if (rear && i == 12) scan.ranges.assign(kHugeBeams, 1.0f);
+  };
+  writeRobotBag(path("in.bag"), shape);
+  // Patch the intensities' length in place: the uint32 just before the marker floats.
+  std::string bytes;
+  {
+    std::ifstream in(path("in.bag"), std::ios::binary);
+    std::ostringstream all;
+    all << in.rdbuf();
+    bytes = all.str();
+  }
+  std::string pattern(reinterpret_cast<const char*>(&kMarker), sizeof(kMarker));
+  const uint32_t three = 3;
+  pattern = std::string(reinterpret_cast<const char*>(&three), 4) + pattern;
+  const size_t at = bytes.find(pattern);
+  ASSERT_NE(at, std::string::npos);
+  const uint32_t huge = 1415586763u;
+  bytes.replace(at, 4, std::string(reinterpret_cast<const char*>(&huge), 4));
+  std::ofstream(path("corrupt.bag"), std::ios::binary) << bytes;
+
+  const RunResult run = runOffline("--bag " + path("corrupt.bag") + " --out " + path("out"));
+  ASSERT_EQ(run.code, 0) << run.output;
+  EXPECT_NE(run.output.find("(undecodable): /scan_rear: 1 of 20;"), std::string::npos)
+      << run.output;
+  EXPECT_NE(run.output.find("intensities claims 1415586763 elements"), std::string::npos)
+      << run.output;
+  EXPECT_NE(run.output.find("(oversized): /scan_rear: 1 of 20;"), std::string::npos) << run.output;
+  EXPECT_EQ(labelMessages(path("out/labels.bag")), 38u);
+}
+
+// A recording cut short loses rosbag's index: the message says how to get it back.
+TEST_F(OfflineEndToEnd, ATruncatedBagSaysHowToRecoverIt) {
+  writeRobotBag(path("in.bag"), true);
+  const uintmax_t size = fs::file_size(path("in.bag"));
+  fs::resize_file(path("in.bag"), size - size / 1000);  // 99.9 % of it
+  const RunResult run = runOffline("--bag " + path("in.bag") + " --out " + path("out"));
+  EXPECT_EQ(run.code, 1) << run.output;
+  EXPECT_NE(run.output.find("rosbag reindex " + path("in.bag")), std::string::npos) << run.output;
+}
+
+// Nothing usable at all: the run fails and names every reason.
+TEST_F(OfflineEndToEnd, NothingUsableFails) {
+  BagShape shape;
+  shape.edit = [](int, bool, sensor_msgs::LaserScan& scan) { scan.angle_increment = 0.0f; };
+  writeRobotBag(path("in.bag"), shape);
+  const RunResult run = runOffline("--bag " + path("in.bag") + " --out " + path("out"));
+  EXPECT_EQ(run.code, 1) << run.output;
+  EXPECT_NE(run.output.find("no scan of"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("40 of 40 scans are malformed"), std::string::npos) << run.output;
+  EXPECT_FALSE(fs::exists(path("out/labels.bag")));
 }
 
 TEST_F(OfflineEndToEnd, ClearErrors) {

@@ -74,6 +74,21 @@ TEST(BadParameter, ScanTopicsWithTheSameLastComponent) {
   expectRejected("rfm_bad_topics_leaf", "\"_scan_topics:=[/a/scan, /b/scan]\"", "scan_topics");
 }
 
+TEST(BadParameter, ZeroRobotSpeedNamesItsRange) {
+  expectRejected("rfm_bad_speed", "_max_robot_speed:=0", "max_robot_speed");
+  const Result result = runNode("rfm_bad_speed_range", "_max_robot_speed:=-3");
+  EXPECT_NE(result.output.find("(0, 1000]"), std::string::npos) << result.output;
+}
+
+// The map must hold at least the active region around the robot (10 m radius: 21 m across).
+TEST(BadParameter, MapExtentSmallerThanTheActiveRegion) {
+  expectRejected("rfm_bad_extent", "_max_map_extent:=15", "max_map_extent");
+}
+
+TEST(BadParameter, EmptyMapDirectory) {
+  expectRejected("rfm_bad_map_directory", "_map_directory:=''", "map_directory");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {

@@ -8,8 +8,9 @@
 //      MOTION, the raw range elsewhere, and beams through the known pane come out as REFLECTION;
 //   3. scans in a frame TF never knows and malformed scans are counted in /rfm/stats and named
 //      in /diagnostics;
-//   4. ~save_map writes map_server files (clear error on an unwritable path), ~reset clears the
-//      map and ~load_map restores it identically.
+//   4. ~save_map writes map_server files, only under map_directory (paths out of it, by '..',
+//      a symbolic link or an absolute path, are refused by name); ~reset clears the map and
+//      ~load_map restores it identically.
 // Every wait is a condition with a deadline, never a fixed sleep.
 #include "map_copy.h"
 #include "reflectance_field_map/LoadMap.h"
@@ -29,6 +30,7 @@
 
 #include <unistd.h>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iostream>
@@ -466,20 +468,42 @@ TEST(SyntheticScene, SaveResetLoadRoundTrip) {
   ASSERT_TRUE(load.waitForExistence(ros::Duration(10.0)));
   ASSERT_TRUE(reset.waitForExistence(ros::Duration(10.0)));
 
-  char dir_template[] = "/tmp/rfm_ros_test_XXXXXX";
-  ASSERT_NE(mkdtemp(dir_template), nullptr);
-  const std::string dir = dir_template;
+  // The node saves and loads only under its map_directory (a fresh one per launch).
+  std::string dir;
+  ASSERT_TRUE(nh.getParam(node + "/map_directory", dir));
+  std::filesystem::create_directories(dir);
 
-  // An unwritable path is a clear error, not a crash.
-  reflectance_field_map::SaveMap bad;
-  bad.request.path = "/nonexistent_rfm_dir/sub/map";
-  ASSERT_TRUE(save.call(bad));
-  EXPECT_FALSE(bad.response.success);
-  EXPECT_NE(bad.response.message.find("/nonexistent_rfm_dir/sub/map"), std::string::npos)
-      << bad.response.message;
+  // Paths out of it are refused with a message naming them: absolute, climbing with '..', or
+  // through a symbolic link that leads out.
+  const std::string outside = dir + "_outside";
+  std::filesystem::create_directories(outside);
+  std::filesystem::remove(dir + "/escape");
+  std::filesystem::create_directory_symlink(outside, dir + "/escape");
+  for (const std::string& path :
+       {std::string("/nonexistent_rfm_dir/sub/map"), std::string("maps/../../etc/x"),
+        std::string("escape/map"), outside + "/map"}) {
+    reflectance_field_map::SaveMap bad;
+    bad.request.path = path;
+    ASSERT_TRUE(save.call(bad));
+    EXPECT_FALSE(bad.response.success) << path;
+    EXPECT_NE(bad.response.message.find(path), std::string::npos) << bad.response.message;
+    reflectance_field_map::LoadMap bad_load;
+    bad_load.request.path = path;
+    ASSERT_TRUE(load.call(bad_load));
+    EXPECT_FALSE(bad_load.response.success) << path;
+  }
+  EXPECT_TRUE(std::filesystem::is_empty(outside));
+  EXPECT_FALSE(std::filesystem::exists("/nonexistent_rfm_dir"));
+
+  // Missing directories under it are created; an absolute path inside it is fine.
+  reflectance_field_map::SaveMap nested;
+  nested.request.path = dir + "/runs/today/map";
+  ASSERT_TRUE(save.call(nested));
+  EXPECT_TRUE(nested.response.success) << nested.response.message;
+  EXPECT_TRUE(std::filesystem::is_regular_file(dir + "/runs/today/map.rfm"));
 
   reflectance_field_map::SaveMap first;
-  first.request.path = dir + "/first";
+  first.request.path = "first";
   ASSERT_TRUE(save.call(first));
   ASSERT_TRUE(first.response.success) << first.response.message;
   std::vector<int8_t> saved;
@@ -514,7 +538,7 @@ TEST(SyntheticScene, SaveResetLoadRoundTrip) {
       << "map not cleared by ~reset";
 
   reflectance_field_map::LoadMap resume;
-  resume.request.path = dir + "/first";
+  resume.request.path = "first";
   const int maps_before_load = scenario->map_.full_maps;
   ASSERT_TRUE(load.call(resume));
   ASSERT_TRUE(resume.response.success) << resume.response.message;
@@ -523,16 +547,19 @@ TEST(SyntheticScene, SaveResetLoadRoundTrip) {
       << "map after ~load_map differs from the saved one";
 
   reflectance_field_map::SaveMap second;
-  second.request.path = dir + "/second";
+  second.request.path = "second";
   ASSERT_TRUE(save.call(second));
   ASSERT_TRUE(second.response.success) << second.response.message;
   EXPECT_EQ(readFile(dir + "/first.pgm"), readFile(dir + "/second.pgm"));
 
   reflectance_field_map::LoadMap missing;
-  missing.request.path = dir + "/does_not_exist";
+  missing.request.path = "does_not_exist";
   ASSERT_TRUE(load.call(missing));
   EXPECT_FALSE(missing.response.success);
   EXPECT_FALSE(missing.response.message.empty());
+
+  std::filesystem::remove_all(dir);
+  std::filesystem::remove_all(outside);
 }
 
 }  // namespace

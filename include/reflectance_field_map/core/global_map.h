@@ -37,7 +37,14 @@ class GlobalMap2D {
   void extract(const CellBox& box, std::vector<CellClass>& out) const;
 
   void write(std::ostream& out) const;
+  // Replaces the map with one written by write(); false (and the map unchanged) when the stream
+  // holds another tile size, a tile twice, a class that does not exist, a tile whose cells lie
+  // beyond kMaxCellCoordinate, or ends early.
   bool read(std::istream& in);
+
+  // Cells read from a file lie within [-kMaxCellCoordinate, kMaxCellCoordinate) on both axes, so
+  // that every box of them, and its width, fits an int.
+  static constexpr int kMaxCellCoordinate = 1 << 28;
 
  private:
   using Tile = std::unique_ptr<CellClass[]>;

@@ -30,7 +30,14 @@ class TileArchive {
   void clear();
 
   void write(std::ostream& out) const;
-  bool read(std::istream& in);
+  // Replaces the archive with one written by write() for tiles of tile_cells x tile_cells cells
+  // of theta_bins bins. False (and the archive unchanged) when an entry is larger than a tile's
+  // bins can compress to, does not decode to exactly a tile's bins, lies where the global map's
+  // cells may not (GlobalMap2D::kMaxCellCoordinate), comes twice, or the stream ends early.
+  bool read(std::istream& in, int tile_cells, int theta_bins);
+
+  // The most bytes compressBins makes of `count` bins: a control byte per 128 literals.
+  static size_t maxPackedBytes(size_t count) { return count + (count + 127) / 128; }
 
   template <typename Visitor>
   void forEach(Visitor&& visit) const {

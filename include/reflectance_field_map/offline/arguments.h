@@ -31,7 +31,9 @@ struct OfflineArguments {
   bool no_reflection_removal = false;
   bool baseline = false;
   std::optional<std::array<double, 4>> theta_view;  // --theta-view x0,y0,x1,y1 (m)
-  bool help = false;                                // --help / -h: print usage, nothing else
+  bool strict = false;     // --strict: a scan that cannot be mapped fails the run
+  double max_speed = 5.0;  // --max-speed M/S: a faster robot pose is a pose jump (skipped)
+  bool help = false;       // --help / -h: print usage, nothing else
 };
 
 // Parses argv[1..]. Throws ArgumentError for unknown flags, missing values, malformed values

@@ -4,6 +4,7 @@
 
 #include <nav_msgs/OccupancyGrid.h>
 
+#include <cstdint>
 #include <string>
 
 // Map files on disk, shared by the live node and the offline tool.
@@ -15,7 +16,9 @@ namespace rfm::ros_glue {
 bool writeMapServerFiles(const std::string& prefix, const nav_msgs::OccupancyGrid& grid,
                          std::string* error);
 
-// PREFIX.rfm: the mapper's whole state (rfm::Mapper::save), to resume with loadMapperState().
+// PREFIX.rfm: the mapper's whole state (rfm::Mapper::save) in a checksummed envelope
+// (rfm::writeStateFile), to resume with loadMapperState(). Every file is written beside its name
+// and renamed into place when complete: a failed or interrupted save leaves the earlier file.
 std::string stateFilePath(const std::string& prefix);
 bool writeMapperState(const std::string& prefix, const rfm::Mapper& mapper, std::string* error);
 
@@ -23,8 +26,11 @@ bool writeMapperState(const std::string& prefix, const rfm::Mapper& mapper, std:
 bool saveMapFiles(const std::string& prefix, const rfm::Mapper& mapper, const std::string& frame,
                   std::string* error);
 
-// Resumes from PATH.rfm (PATH may name the .rfm file itself). The mapper is unchanged on
-// failure.
+// The largest saved state loadMapperState reads (bytes).
+constexpr uint64_t kMaxStateFileBytes = uint64_t{8} << 30;
+
+// Resumes from PATH.rfm (PATH may name the .rfm file itself) once its envelope, size and
+// checksum are verified. On failure the mapper is unchanged and `error` says why.
 bool loadMapperState(const std::string& path, rfm::Mapper& mapper, std::string* error);
 
 }  // namespace rfm::ros_glue

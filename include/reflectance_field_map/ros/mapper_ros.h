@@ -3,20 +3,20 @@
 #include "reflectance_field_map/LoadMap.h"
 #include "reflectance_field_map/SaveMap.h"
 #include "reflectance_field_map/core/mapper.h"
+#include "reflectance_field_map/core/pose_gate.h"
+#include "reflectance_field_map/ros/map_directory.h"
 #include "reflectance_field_map/ros/parameters.h"
 
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <diagnostic_updater/update_functions.h>
-#include <message_filters/pass_through.h>
-#include <message_filters/subscriber.h>
 #include <ros/ros.h>
 #include <sensor_msgs/LaserScan.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/buffer.h>
-#include <tf2_ros/message_filter.h>
 #include <tf2_ros/transform_listener.h>
 
 #include <atomic>
+#include <deque>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -31,6 +31,13 @@ namespace rfm::ros_glue {
 // the scan's stamp, runs motion removal on a timer and publishes the map (/rfm/map,
 // /rfm/map_updates), the glass and motion markers, one filtered scan per input, statistics and
 // diagnostics. Services ~save_map, ~load_map and ~reset.
+//
+// Nothing a topic or a file brings may crash it, wipe the map or take the machine's memory: a
+// scan that cannot be used is dropped and counted with its reason (malformed, no transform,
+// stale: stamped before the previous scan on its topic, a pose jump faster than
+// max_robot_speed, beyond max_map_extent, lost in a queue); only ROS time going back resets the
+// map; ~save_map and ~load_map stay inside map_directory, and a state that fails to load leaves
+// the running map as it was.
 //
 // Callbacks may run on several threads (nodelet manager, TF listener): the mapper and the
 // publishing state are guarded by one mutex, the counters by another.
@@ -49,42 +56,49 @@ class MapperRos {
   static std::string describeParameterError(const rfm::InvalidOption& error);
 
  private:
-  using ScanFilter = tf2_ros::MessageFilter<sensor_msgs::LaserScan>;
+  // Why a scan waiting for its transform was given up.
+  enum class TfFailure {
+    kOlderThanBuffer,  // the buffer no longer (or never) reaches back to its stamp
+    kQueueOverflow,    // tf_queue_size newer scans arrived before its transform did
+  };
 
   struct ScanInput {
     uint32_t id = 0;
     std::string topic;  // as configured (absolute or relative to the node's namespace)
     std::string leaf;   // last component: /rfm/<leaf>/filtered
-    message_filters::Subscriber<sensor_msgs::LaserScan> subscriber;
-    message_filters::PassThrough<sensor_msgs::LaserScan> valid;  // scans that passed validate()
-    std::unique_ptr<ScanFilter> tf_filter;
+    ros::Subscriber subscriber;
+    // Valid scans waiting, in order, until TF reaches their stamp (at most tf_queue_size). Only
+    // the node's callback thread touches it.
+    std::deque<sensor_msgs::LaserScanConstPtr> waiting;
     ros::Publisher filtered_pub;
     ros::Publisher labels_pub;
     double min_rate = 0.0, max_rate = 0.0;
     std::unique_ptr<diagnostic_updater::FrequencyStatus> rate;
-    ros::Time last_stamp;   // newest processed scan
+    ros::Time last_stamp;   // stamp of the previous scan received (stale: stamped before it)
     uint32_t last_seq = 0;  // header.seq of the last scan received (0: none yet)
     // transport_drops: gaps in header.seq (the subscriber queue overflowed: mapper too slow).
-    std::atomic<uint64_t> received{0}, processed{0}, malformed{0}, tf_failures{0},
-        transport_drops{0};
+    std::atomic<uint64_t> received{0}, processed{0}, malformed{0}, tf_failures{0}, stale{0},
+        pose_jumps{0}, beyond_extent{0}, transport_drops{0};
   };
 
   void setParams();
   void setRosInterfaces();
   void setDiagnostics();
 
-  // Subscriber -> incomingScan (rate, time jumps, validation) -> PassThrough -> TF filter ->
-  // processScan; the TF filter reports scans it gives up on to tfFailure.
+  // Subscriber -> incomingScan (rate, time jumps, staleness, validation) -> waiting ->
+  // processScan once TF reaches the scan's stamp (releaseWaiting, on every scan and on a wall
+  // timer); a scan given up on goes to tfFailure.
   void incomingScan(ScanInput& input, const sensor_msgs::LaserScanConstPtr& msg);
+  void releaseWaiting(ScanInput& input);
   void processScan(ScanInput& input, const sensor_msgs::LaserScanConstPtr& msg);
-  void tfFailure(ScanInput& input, const sensor_msgs::LaserScanConstPtr& msg,
-                 tf2_ros::FilterFailureReason reason);
+  void tfFailure(ScanInput& input, const sensor_msgs::LaserScanConstPtr& msg, TfFailure reason);
 
   void motionRemovalTimer(const ros::TimerEvent& event);
   void mapTimer(const ros::TimerEvent& event);
   void markerTimer(const ros::TimerEvent& event);
   void statsTimer(const ros::TimerEvent& event);
   void watchdogTimer(const ros::WallTimerEvent& event);
+  void tfWaitTimer(const ros::WallTimerEvent& event);
   void diagnosticsTimer(const ros::WallTimerEvent& event);
 
   bool saveMap(reflectance_field_map::SaveMap::Request& request,
@@ -95,7 +109,16 @@ class MapperRos {
 
   // ROS time went back (a looping bag): clears TF and the queued scans and resets the mapper.
   bool checkTimeJump();
-  void resetAfterTimeJump(const std::string& why);
+  void resetAfterTimeJump(double seconds_back);
+
+  // With mapper_mutex_ held: whether the mapper may take a scan whose robot stands at `robot`
+  // (a pose within max_robot_speed of the last one, a map within max_map_extent). A refusal is
+  // counted and reported; false then.
+  bool admitPoseLocked(ScanInput& input, double stamp, const Eigen::Vector2d& robot);
+  // The side of the box (m) the explored map would span once the active region reaches `robot`.
+  Eigen::Vector2d extentWithLocked(const Eigen::Vector2d& robot) const;
+  void dropScan(ScanInput& input, std::atomic<uint64_t>& reason_on_topic,
+                std::atomic<uint64_t>& reason_total);
 
   // With mapper_mutex_ held.
   void runMotionRemovalLocked();
@@ -111,9 +134,11 @@ class MapperRos {
   ros::NodeHandle nh_;
   ros::NodeHandle private_nh_;
   RosParameters params_;
+  std::unique_ptr<MapDirectory> map_directory_;
 
   std::mutex mapper_mutex_;
   std::unique_ptr<rfm::Mapper> mapper_;
+  std::unique_ptr<rfm::PoseGate> pose_gate_;
   uint64_t scans_since_motion_removal_ = 0;
   bool map_published_ = false;
   rfm::CellBox published_box_;   // geometry of the last full /rfm/map
@@ -128,7 +153,7 @@ class MapperRos {
   ros::Publisher map_pub_, map_update_pub_, glass_pub_, motion_pub_, stats_pub_;
   ros::ServiceServer save_service_, load_service_, reset_service_;
   ros::Timer motion_timer_, map_timer_, marker_timer_, stats_timer_;
-  ros::WallTimer watchdog_timer_, diagnostics_timer_;
+  ros::WallTimer watchdog_timer_, diagnostics_timer_, tf_wait_timer_;
   std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
 
   // Counters (also written from the TF listener thread through tfFailure).
@@ -136,10 +161,15 @@ class MapperRos {
   std::set<std::string> frames_not_in_tf_;
   std::string last_tf_error_;
   std::atomic<uint64_t> scans_dropped_{0}, tf_failures_{0}, queue_overflows_{0},
-      malformed_scans_{0}, time_jumps_{0}, scans_processed_{0}, transport_drops_{0};
-  uint64_t tf_failures_reported_ = 0, malformed_reported_ = 0, time_jumps_reported_ = 0,
+      malformed_scans_{0}, stale_scans_{0}, pose_jumps_{0}, beyond_extent_{0}, time_jumps_{0},
+      scans_processed_{0}, transport_drops_{0}, time_jump_drops_{0};
+  uint64_t tf_failures_reported_ = 0, malformed_reported_ = 0, stale_reported_ = 0,
+           pose_jumps_reported_ = 0, beyond_extent_reported_ = 0, time_jumps_reported_ = 0,
            transport_drops_reported_ = 0;
-  ros::Time newest_time_;  // newest ROS time seen, to detect jumps back
+  double last_time_jump_s_ = 0.0;  // how far ROS time went back, last time (counters_mutex_)
+  double last_pose_jump_m_ = 0.0;  // the last rejected pose's distance (counters_mutex_)
+  Eigen::Vector2d last_extent_m_{0.0, 0.0};  // the extent a refused scan would have made
+  ros::Time newest_time_;                    // newest ROS time seen, to detect jumps back
 };
 
 }  // namespace rfm::ros_glue

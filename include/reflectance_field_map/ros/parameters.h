@@ -24,6 +24,10 @@ struct RosParameters {
   double min_scan_rate = 2.0;            // Hz, diagnostics warn when a scan topic is slower
   double max_scan_rate = 1000.0;         // Hz, diagnostics warn when a scan topic is faster
   double time_jump_threshold = 0.5;      // s, ROS time going back more than this resets the map
+  double max_robot_speed = 5.0;   // m/s, a robot pose farther from the last than this allows is
+                                  // rejected (plus rfm::kPoseJumpSlack)
+  double max_map_extent = 400.0;  // m, side of the box the explored map may span
+  std::string map_directory = "~/.ros/rfm";  // ~save_map and ~load_map work only under it
   rfm::MapperOptions mapper;
 
   // Throws rfm::InvalidOption naming the parameter, its value and the allowed range.
