@@ -22,8 +22,10 @@ AnchorRules AnchorRules::fromOptions(const MotionRemovalOptions& options,
   rules.persistence_min_cells = unitsIn(options.persistence_min_length, geometry.resolution());
   rules.departure_min_bins = unitsIn(options.departure_min_angle, geometry.binWidth());
   rules.departure_vacant_ticks = unitsIn(options.departure_vacant_time, tick);
-  rules.opaque_min_bins = unitsIn(options.opaque_min_angle, geometry.binWidth());
-  rules.opaque_min_cells = unitsIn(options.opaque_min_length, geometry.resolution());
+  rules.solid_max_missed_ratio = options.solid_max_missed_ratio;
+  rules.solid_min_share = options.solid_min_share;
+  rules.solid_anchor_min_bins = unitsIn(options.solid_anchor_min_angle, geometry.binWidth());
+  rules.glass_max_static_neighbours = options.glass_max_static_neighbours;
   // Departures read the history of the cells that could be widely visible (no fewer bins
   // can be). Not of cells merely confirmed for the persistence time: glass confirmed that way
   // is seen through in its jittered lobe's edge bins later, which reads as a departure.
@@ -40,27 +42,42 @@ AnchorHistory::AnchorHistory(const ReflectanceField& field)
     : mask_words_(field.maskWords()),
       theta_bins_(field.geometry().thetaBins()),
       confirmed_ticks_(static_cast<size_t>(field.window().sizeCells()) * field.window().sizeCells(),
-                       0) {}
+                       0),
+      arrival_(confirmed_ticks_.size(), 0) {}
 
 CellAnchoring AnchorRules::judge(const ReflectanceField& field, const AnchorHistory& history,
                                  int slot, int reflective_bins, bool widely_visible) const {
   const bool confirmed =
       persistence_ticks > 0 && history.confirmedTicksAt(slot) >= persistence_ticks;
+  const bool solid = solid_max_missed_ratio > 0.0 &&
+                     field.missedBinsAt(slot) <= solid_max_missed_ratio * reflective_bins;
   // Only a would-be anchor needs its history read.
   const bool departed =
-      (widely_visible || confirmed) &&
+      (widely_visible || confirmed || solid) &&
       ((departure_min_bins > 0 && history.contradictedBinsAt(field, slot) >= departure_min_bins) ||
        (departure_vacant_ticks > 0 && history.vacantTicksAt(slot) >= departure_vacant_ticks));
-  // Evidence confirmed for long anchors until the robot looks through it from where it saw it
-  // solid.
-  const bool abandoned = confirmed && departure_vacant_ticks > 0 &&
+  // Evidence confirmed for long, or solid, anchors until the robot looks through it from where it
+  // saw it solid.
+  const bool abandoned = (confirmed || solid) && departure_vacant_ticks > 0 &&
                          history.abandonedTicksAt(slot) >= departure_vacant_ticks;
   CellAnchoring anchoring;
-  anchoring.anchor = widely_visible && !departed;
+  const bool solid_anchor = solid && !departed && !abandoned && !history.arrivedAt(slot);
+  anchoring.anchor = (widely_visible && !departed) ||
+                     (solid_anchor && solid_anchor_min_bins > 0 &&
+                      reflective_bins >= solid_anchor_min_bins);
   anchoring.persistent = confirmed && !departed && !abandoned;
-  anchoring.opaque =
-      opaque_min_bins > 0 && reflective_bins >= opaque_min_bins && field.missedBinsAt(slot) == 0;
+  anchoring.solid = solid;
+  anchoring.solid_anchor = solid_anchor;
   return anchoring;
+}
+
+bool AnchorHistory::seenFree(const ReflectanceField& field, int slot) {
+  if (field.missedBinsAt(slot) == 0) return false;
+  const int confident = field.logOdds().minValue() / 2;
+  for (int bin = 0; bin < field.geometry().thetaBins(); ++bin) {
+    if (field.valueAt(slot, bin) <= confident) return true;
+  }
+  return false;
 }
 
 int AnchorHistory::vacantTicksAt(int storage_index) const {
@@ -91,13 +108,14 @@ size_t AnchorHistory::bytes() const {
                        2 * sizeof(void*) + sizeof(void*);
   const size_t certainty_entry = mask_words_ * sizeof(uint64_t) + theta_bins_ * sizeof(int8_t) +
                                  sizeof(CertaintyHistory) + sizeof(int) + 3 * sizeof(void*);
-  return confirmed_ticks_.size() + departure_.size() * entry + certainty_.size() * certainty_entry;
+  return confirmed_ticks_.size() + arrival_.size() + departure_.size() * entry + certainty_.size() * certainty_entry;
 }
 
 void AnchorHistory::clear() {
   departure_.clear();
   certainty_.clear();
   std::fill(confirmed_ticks_.begin(), confirmed_ticks_.end(), 0);
+  std::fill(arrival_.begin(), arrival_.end(), 0);
 }
 
 void AnchorHistory::forgetTiles(const std::vector<TileIndex>& tiles, const RollingWindow& window) {
@@ -105,6 +123,7 @@ void AnchorHistory::forgetTiles(const std::vector<TileIndex>& tiles, const Rolli
   for (const TileIndex& tile : tiles) {
     const int first = window.tileFirstSlot(tile);
     std::fill_n(&confirmed_ticks_[first], tile_slots, uint8_t{0});
+    std::fill_n(&arrival_[first], tile_slots, uint8_t{0});
     if (departure_.empty() && certainty_.empty()) continue;
     for (int slot = first; slot < first + tile_slots; ++slot) {
       departure_.erase(slot);
@@ -180,11 +199,24 @@ void AnchorHistory::tick(ReflectanceField& field, const AnchorRules& rules,
       // A tile with no hit and no mask change since the last tick was left as this tick would
       // leave it: hit flags clear, unreflective cells at 0 ticks, reflective ones held, histories
       // holding their masks. Unless every cell is remembered, reflective or not (min bins 0).
-      if (!field.takeTickPending(storage_tile) && remembered_min_bins > 0) continue;
+      // Misses alone leave no record, so its unreflective cells may have been seen free since.
+      if (!field.takeTickPending(storage_tile) && remembered_min_bins > 0) {
+        for (size_t index = first; index < first + tile_slots; ++index) {
+          uint8_t& arrival = arrival_[index];
+          if (arrival == 0 && field.missedBinsAt(static_cast<int>(index)) > 0 &&
+              field.reflectiveBinsAt(static_cast<int>(index)) == 0 &&
+              seenFree(field, static_cast<int>(index))) {
+            arrival = kSeenFree;
+          }
+        }
+        continue;
+      }
       if (remembered_min_bins > 0 && field.tileReflectiveCells(storage_tile) == 0) {
         // No cell of this tile is reflective: none is remembered or confirmed, so all that is
         // left to do is what the loop below does to unreflective cells.
         std::fill_n(&confirmed_ticks_[first], tile_slots, uint8_t{0});
+        for (size_t index = first; index < first + tile_slots; ++index)
+          arrival_[index] = seenFree(field, static_cast<int>(index)) ? kSeenFree : 0;
         field.clearHitsSinceTick(static_cast<int>(first), static_cast<int>(tile_slots));
         continue;
       }
@@ -199,6 +231,13 @@ void AnchorHistory::tick(ReflectanceField& field, const AnchorRules& rules,
           } else {
             remembered[thread].push_back(slot);
           }
+        }
+        // Reflective now after being seen free at the last tick: something arrived there.
+        uint8_t& arrival = arrival_[index];
+        if (!reflective) {
+          arrival = seenFree(field, slot) ? kSeenFree : 0;
+        } else if (arrival & kSeenFree) {
+          arrival = kArrived;
         }
         uint8_t& ticks = confirmed_ticks_[index];
         if (!reflective) {

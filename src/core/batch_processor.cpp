@@ -108,8 +108,8 @@ BatchResult processPlainGrid(const std::vector<TimedScan>& scans, MapperOptions 
                              const Extent& extent,
                              const std::function<void(size_t, size_t)>& progress) {
   BatchResult result;
-  options.active_region.window_radius = extent.half_side + options.grid.resolution;
-  PlainOccupancyGrid grid(options.grid, options.log_odds, options.active_region);
+  PlainOccupancyGrid grid(options.grid, options.log_odds, options.active_region,
+                          extent.half_side + options.grid.resolution);
   grid.recenter(extent.centre);
   std::vector<Ray> rays;
   auto start = std::chrono::steady_clock::now();
@@ -167,11 +167,11 @@ BatchResult processBatch(const std::vector<TimedScan>& scans, const MapperOption
                          const std::function<void(const ReflectanceField&)>& inspect_field) {
   requested.validate();
   const Extent extent = recordingExtent(scans, requested);
-  if (extent.half_side + requested.grid.resolution > ActiveRegionOptions::kMaxWindowRadius) {
+  if (extent.half_side + requested.grid.resolution > MapperLayout::kMaxWindowRadius) {
     throw std::invalid_argument(
         "the recording's evidence spans " + std::to_string(static_cast<int>(2 * extent.half_side)) +
         " m: the batch holds it in one window, at most " +
-        std::to_string(static_cast<int>(2 * ActiveRegionOptions::kMaxWindowRadius)) + " m across");
+        std::to_string(static_cast<int>(2 * MapperLayout::kMaxWindowRadius)) + " m across");
   }
   if (mode == BatchMode::kPlainGrid) return processPlainGrid(scans, requested, extent, progress);
 
@@ -180,11 +180,12 @@ BatchResult processBatch(const std::vector<TimedScan>& scans, const MapperOption
   options.motion_removal.motion_removal_enabled &= mode != BatchMode::kBasicRfm;
   options.reflection_removal.reflection_removal_enabled &= mode == BatchMode::kFull;
   options.reflection_removal.scan_buffer_size = 0;        // batch re-processes every scan instead
-  options.reflection_removal.clearance_block_shift = 0;   // rebuilt once per pass only
   options.occupancy.beta = options.occupancy.batch_beta;  // classifies the whole recording seen
-  options.active_region.window_radius = extent.half_side + options.grid.resolution;
+  MapperLayout layout;
+  layout.window_radius = extent.half_side + options.grid.resolution;
+  layout.clearance_block_shift = 0;  // rebuilt once per pass only
 
-  Mapper mapper(options);
+  Mapper mapper(options, layout);
   mapper.holdActiveRegionAt(extent.centre);
   BatchResult result;
   const ReflectionRemovalOptions& reflection = options.reflection_removal;

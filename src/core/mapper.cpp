@@ -9,6 +9,7 @@
 #include "reflectance_field_map/core/scan_inserter.h"
 
 #include <chrono>
+#include <string>
 #include <istream>
 #include <optional>
 #include <ostream>
@@ -17,6 +18,18 @@ namespace rfm {
 namespace {
 
 constexpr uint32_t kMapperMagic = 0x52464d53;  // "RFMS"
+
+void validate(const MapperLayout& layout) {
+  if (!(layout.window_radius >= 0.0 && layout.window_radius <= MapperLayout::kMaxWindowRadius)) {
+    throw InvalidOption("window_radius", std::to_string(layout.window_radius),
+                        "[0, " + std::to_string(MapperLayout::kMaxWindowRadius) + "]");
+  }
+  if (layout.clearance_block_shift < 0 ||
+      layout.clearance_block_shift > ClearanceMap::kMaxBlockShift) {
+    throw InvalidOption("clearance_block_shift", std::to_string(layout.clearance_block_shift),
+                        "[0, " + std::to_string(ClearanceMap::kMaxBlockShift) + "]");
+  }
+}
 
 double millisecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
@@ -27,7 +40,8 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
 
 // The steps, and what they keep between scans.
 struct Mapper::Impl {
-  Impl(const MapperOptions& options, const ReflectanceField& field, const GlobalMap2D& map)
+  Impl(const MapperOptions& options, const MapperLayout& layout, const ReflectanceField& field,
+       const GlobalMap2D& map)
       : runner(std::make_shared<ParallelRunner>(options.insertion.insertion_threads)),
         inserter(runner),
         rule(options.occupancy, field.geometry().binWidth()),
@@ -37,7 +51,7 @@ struct Mapper::Impl {
         completion(field.geometry(), options.reflection_removal.reflection_removal_enabled
                                          ? options.reflection_removal.glass_completion_max_gap
                                          : 0.0),
-        classes(field.window(), map, options.reflection_removal.clearance_block_shift),
+        classes(field.window(), map, layout.clearance_block_shift),
         reflections(options.reflection_removal, field, classes) {}
 
   // The mapper's threads (insertion_threads), for one job at a time: insertion (by theta bin),
@@ -60,11 +74,11 @@ struct Mapper::Impl {
   std::vector<std::vector<Ray>> pending;  // addScans: prepared, not yet inserted
 };
 
-Mapper::Mapper(const MapperOptions& options)
-    : options_((options.validate(), options)),
-      field_(options.grid, options.log_odds, options.active_region),
+Mapper::Mapper(const MapperOptions& options, const MapperLayout& layout)
+    : options_((options.validate(), validate(layout), options)),
+      field_(options.grid, options.log_odds, options.active_region, layout.window_radius),
       map_(),
-      impl_(std::make_unique<Impl>(options, field_, map_)) {}
+      impl_(std::make_unique<Impl>(options, layout, field_, map_)) {}
 
 Mapper::~Mapper() = default;
 

@@ -121,9 +121,10 @@ void MotionRemover::unite(uint32_t a, uint32_t b) {
   if (rank_[a] < rank_[b]) std::swap(a, b);
   parent_[b] = a;
   anchored_[a] |= anchored_[b];
+  runs_in_[a] += runs_in_[b];
+  solid_runs_[a] += solid_runs_[b];
   if (anchors_.tracksExtents()) {
     persistent_[a] |= persistent_[b];
-    opaque_[a] |= opaque_[b];
     Extent& e = extent_[a];
     const Extent& f = extent_[b];
     e = {std::min(e.min_x, f.min_x), std::min(e.min_y, f.min_y), std::max(e.max_x, f.max_x),
@@ -191,17 +192,18 @@ void MotionRemover::joinBand(const ReflectanceField& field, const AnchorHistory&
       const CellAnchoring anchoring =
           anchors_.judge(field, history, slot, reflective, widelyVisible(field, slot, reflective));
       const bool anchor = anchoring.anchor, persistent = anchoring.persistent;
-      const bool opaque = anchoring.opaque;
       widely_visible_[local] = anchor;
-      bool seeded = anchor || (persistent && anchors_.persistence_min_cells == 0) ||
-                    (opaque && anchors_.opaque_min_cells == 0);
+      solid_[local] = anchoring.solid;
+      for (uint32_t r = first; r < last; ++r) {
+        const uint32_t root = find(r);
+        ++runs_in_[root];
+        solid_runs_[root] += anchoring.solid_anchor;
+      }
+      bool seeded = anchor || (persistent && anchors_.persistence_min_cells == 0);
       // The rules with a minimum length anchor once the component proves long enough.
-      if (anchors_.tracksExtents() && (persistent || opaque)) {
-        for (uint32_t r = first; r < last; ++r) {
-          const uint32_t root = find(r);
-          persistent_[root] |= persistent;
-          opaque_[root] |= opaque;
-        }
+      if (anchors_.tracksExtents() && persistent) {
+        for (uint32_t r = first; r < last; ++r)
+          persistent_[find(r)] = 1;
       }
       // Known obstacles just outside the box seed components crossing its border.
       if (!seeded &&
@@ -249,7 +251,7 @@ bool MotionRemover::spansAtLeast(uint32_t root, int min_cells) const {
 
 void MotionRemover::classifyBand(const ReflectanceField& field, const CellBox& box,
                                  const Band& band, std::vector<CellClass>& classes,
-                                 MotionRemovalCounts& counts) const {
+                                 MotionRemovalCounts& counts, std::vector<size_t>& glass) const {
   const size_t width = box.width();
   field.window().forEachTileSpan(
       bandBox(box, band.first_row, band.end_row), [&](int y, int x_begin, int x_end, int) {
@@ -284,7 +286,8 @@ void MotionRemover::classifyBand(const ReflectanceField& field, const CellBox& b
             const uint32_t root = root_[r];
             anchored |= anchored_[root] != 0 ||
                         (persistent_[root] && spansAtLeast(root, anchors_.persistence_min_cells)) ||
-                        (opaque_[root] && spansAtLeast(root, anchors_.opaque_min_cells));
+                        (anchors_.solid_max_missed_ratio > 0.0 &&
+                         solid_runs_[root] >= anchors_.solid_min_share * runs_in_[root]);
           }
           CellClass& c = classes[local];
           c = rule_.classify(reflective, field.missedBinsAt(slots_[local]));
@@ -293,9 +296,13 @@ void MotionRemover::classifyBand(const ReflectanceField& field, const CellBox& b
           } else if (widely_visible_[local]) {
             c = CellClass::kStatic;
             ++counts.static_cells;
+          } else if (anchored && solid_[local]) {
+            c = CellClass::kStatic;  // structure that is not seen through: no glass
+            ++counts.static_cells;
           } else if (anchored) {
             c = rule_.isMetalLobe(widest) ? CellClass::kMetal : CellClass::kGlass;
             ++(c == CellClass::kMetal ? counts.metal_cells : counts.glass_cells);
+            glass.push_back(local);
           } else {
             c = CellClass::kMotion;
             ++counts.motion_cells;
@@ -338,7 +345,8 @@ MotionRemovalCounts MotionRemover::classify(
   rank_.assign(runs_.size(), 0);
   anchored_.assign(runs_.size(), 0);
   persistent_.assign(runs_.size(), 0);
-  opaque_.assign(runs_.size(), 0);
+  runs_in_.assign(runs_.size(), 0);
+  solid_runs_.assign(runs_.size(), 0);
   extent_.resize(anchors_.tracksExtents() ? runs_.size() : 0);
   forEachBand([&](int p) {
     std::copy(band_runs_[p].begin(), band_runs_[p].end(), runs_.begin() + band_offset[p]);
@@ -359,6 +367,7 @@ MotionRemovalCounts MotionRemover::classify(
     }
   });
   widely_visible_.assign(cells, 0);
+  solid_.assign(cells, 0);
   // Each band unites only its own runs, so bands do not touch each other's trees.
   forEachBand([&](int p) { joinBand(field, history, box, bands[p], outside); });
   for (int p = 0; p + 1 < parts; ++p) {
@@ -373,7 +382,41 @@ MotionRemovalCounts MotionRemover::classify(
   }
   classes.resize(cells);
   std::vector<MotionRemovalCounts> band_counts(parts);
-  forEachBand([&](int p) { classifyBand(field, box, bands[p], classes, band_counts[p]); });
+  band_glass_.resize(parts);
+  forEachBand([&](int p) {
+    band_glass_[p].clear();
+    classifyBand(field, box, bands[p], classes, band_counts[p], band_glass_[p]);
+  });
+  if (anchors_.glass_max_static_neighbours >= 0) {
+    // Glass is a thin surface with open space on both sides. A glassy cell lying against
+    // structure is that structure's surface, blurred (pose error, a rough wall): rays ending a
+    // cell deeper see through it near where it returns. Decided on the classes before any
+    // change, so demotions do not spread.
+    std::vector<size_t> demoted;
+    const int width = box.width(), height = box.height();
+    for (const std::vector<size_t>& glass : band_glass_) {
+      for (size_t local : glass) {
+        const int x = static_cast<int>(local % width), y = static_cast<int>(local / width);
+        int neighbours = 0;
+        for (int dy = -1; dy <= 1; ++dy) {
+          for (int dx = -1; dx <= 1; ++dx) {
+            if ((dx | dy) == 0 || x + dx < 0 || y + dy < 0 || x + dx >= width ||
+                y + dy >= height) {
+              continue;
+            }
+            neighbours += classes[local + dy * width + dx] == CellClass::kStatic;
+          }
+        }
+        if (neighbours > anchors_.glass_max_static_neighbours) demoted.push_back(local);
+      }
+    }
+    for (size_t local : demoted) {
+      MotionRemovalCounts& c = band_counts.front();
+      --(classes[local] == CellClass::kMetal ? c.metal_cells : c.glass_cells);
+      ++c.static_cells;
+      classes[local] = CellClass::kStatic;
+    }
+  }
   previous_field_ = field.identity();
   previous_box_ = box;
   previous_classes_ = classes;

@@ -1,11 +1,10 @@
 #include "reflectance_field_map/core/options.h"
 
-#include "reflectance_field_map/core/clearance_map.h"
 #include "reflectance_field_map/core/grid_geometry.h"
 #include "reflectance_field_map/core/log_odds.h"
 
 #include <cmath>
-#include <functional>
+#include <type_traits>
 #include <sstream>
 
 namespace rfm {
@@ -52,7 +51,6 @@ void InsertionOptions::validate() const {
 
 void ActiveRegionOptions::validate() const {
   requireRange("active_region_radius", active_region_radius, 1.0, 200.0);
-  requireRange("window_radius", window_radius, 0.0, kMaxWindowRadius);
 }
 
 void OccupancyOptions::validate() const {
@@ -69,8 +67,10 @@ void MotionRemovalOptions::validate() const {
   requireRange("persistence_min_length", persistence_min_length, 0.0, 100.0);
   requireRange("departure_min_angle", departure_min_angle, 0.0, kTwoPi);
   requireRange("departure_vacant_time", departure_vacant_time, 0.0, 1e6);
-  requireRange("opaque_min_angle", opaque_min_angle, 0.0, kTwoPi);
-  requireRange("opaque_min_length", opaque_min_length, 0.0, 100.0);
+  requireRange("solid_max_missed_ratio", solid_max_missed_ratio, 0.0, 1000.0);
+  requireRange("solid_min_share", solid_min_share, 0.0, 1.0);
+  requireRange("solid_anchor_min_angle", solid_anchor_min_angle, 0.0, kTwoPi);
+  requireRange("glass_max_static_neighbours", glass_max_static_neighbours, -1, 8);
 }
 
 void ReflectionRemovalOptions::validate() const {
@@ -80,7 +80,7 @@ void ReflectionRemovalOptions::validate() const {
   requireRange("search_pass_scan_stride", search_pass_scan_stride, 1, 1000);
   requireRange("glass_completion_max_gap", glass_completion_max_gap, 0.0, 20.0);
   requireRange("scan_buffer_size", scan_buffer_size, 0, 100000);
-  requireRange("clearance_block_shift", clearance_block_shift, 0, ClearanceMap::kMaxBlockShift);
+  requireRange("static_blocking_min_angle", static_blocking_min_angle, 0.0, kTwoPi);
 }
 
 void MapperOptions::validate() const {
@@ -100,152 +100,15 @@ void MapperOptions::validate() const {
 
 namespace {
 
-struct FieldAccess {
-  OptionField field;
-  std::function<double&(MapperOptions&)> real;
-  std::function<int&(MapperOptions&)> integer;
-  std::function<bool&(MapperOptions&)> flag;
-};
-
-const std::vector<FieldAccess>& accessTable() {
-  using T = OptionField::Type;
-  static const std::vector<FieldAccess> table = {
-      {{"resolution", "cell size (m)", T::kDouble},
-       [](MapperOptions& o) -> double& { return o.grid.resolution; },
-       {},
-       {}},
-      {{"theta_bins", "direction bins over 2*pi", T::kInt},
-       {},
-       [](MapperOptions& o) -> int& { return o.grid.theta_bins; },
-       {}},
-      {{"tile_cells", "cells per tile side", T::kInt},
-       {},
-       [](MapperOptions& o) -> int& { return o.grid.tile_cells; },
-       {}},
-      {{"log_odds_hit", "log-odds added by a hit", T::kDouble},
-       [](MapperOptions& o) -> double& { return o.log_odds.log_odds_hit; },
-       {},
-       {}},
-      {{"log_odds_miss", "log-odds added by a miss", T::kDouble},
-       [](MapperOptions& o) -> double& { return o.log_odds.log_odds_miss; },
-       {},
-       {}},
-      {{"log_odds_min", "lower clamp of a bin", T::kDouble},
-       [](MapperOptions& o) -> double& { return o.log_odds.log_odds_min; },
-       {},
-       {}},
-      {{"log_odds_max", "upper clamp of a bin", T::kDouble},
-       [](MapperOptions& o) -> double& { return o.log_odds.log_odds_max; },
-       {},
-       {}},
-      {{"clearing_distance", "misses for beams with no return (m)", T::kDouble},
-       [](MapperOptions& o) -> double& { return o.insertion.clearing_distance; },
-       {},
-       {}},
-      {{"insertion_threads", "threads inserting a scan, split by theta bin", T::kInt},
-       {},
-       [](MapperOptions& o) -> int& { return o.insertion.insertion_threads; },
-       {}},
-      {{"active_region_radius", "robot-centred region updated each scan (m)", T::kDouble},
-       [](MapperOptions& o) -> double& { return o.active_region.active_region_radius; },
-       {},
-       {}},
-      {{"alpha", "eq. 5: min reflective angle of an obstacle (rad)", T::kDouble},
-       [](MapperOptions& o) -> double& { return o.occupancy.alpha; },
-       {},
-       {}},
-      {{"beta", "eq. 7: min marginal odds of a widely visible cell (rad)", T::kDouble},
-       [](MapperOptions& o) -> double& { return o.occupancy.beta; },
-       {},
-       {}},
-      {{"batch_beta", "batch: eq. 7 threshold of the offline tool (rad)", T::kDouble},
-       [](MapperOptions& o) -> double& { return o.occupancy.batch_beta; },
-       {},
-       {}},
-      {{"metal_min_angle", "min reflective angle of metal (rad)", T::kDouble},
-       [](MapperOptions& o) -> double& { return o.occupancy.metal_min_angle; },
-       {},
-       {}},
-      {{"motion_removal_enabled", "run Alg. 2", T::kBool},
-       {},
-       {},
-       [](MapperOptions& o) -> bool& { return o.motion_removal.motion_removal_enabled; }},
-      {{"motion_removal_rate", "motion removal timer (Hz)", T::kDouble},
-       [](MapperOptions& o) -> double& { return o.motion_removal.motion_removal_rate; },
-       {},
-       {}},
-      {{"persistence_time", "reflective this long without a break anchors like V (s, 0 off)",
-        T::kDouble},
-       [](MapperOptions& o) -> double& { return o.motion_removal.persistence_time; },
-       {},
-       {}},
-      {{"persistence_min_length", "persistent cells anchor components at least this long (m)",
-        T::kDouble},
-       [](MapperOptions& o) -> double& { return o.motion_removal.persistence_min_length; },
-       {},
-       {}},
-      {{"departure_min_angle",
-        "seen through over this much of its former reflective angle: anchors no more (rad, 0 off)",
-        T::kDouble},
-       [](MapperOptions& o) -> double& { return o.motion_removal.departure_min_angle; },
-       {},
-       {}},
-      {{"departure_vacant_time",
-        "seen through in new directions, never hit, this long: anchors no more (s, 0 off)",
-        T::kDouble},
-       [](MapperOptions& o) -> double& { return o.motion_removal.departure_vacant_time; },
-       {},
-       {}},
-      {{"opaque_min_angle", "reflective this wide and never seen through anchors (rad, 0 off)",
-        T::kDouble},
-       [](MapperOptions& o) -> double& { return o.motion_removal.opaque_min_angle; },
-       {},
-       {}},
-      {{"opaque_min_length", "never-seen-through cells anchor components this long (m)",
-        T::kDouble},
-       [](MapperOptions& o) -> double& { return o.motion_removal.opaque_min_length; },
-       {},
-       {}},
-      {{"reflection_removal_enabled", "run Alg. 3", T::kBool},
-       {},
-       {},
-       [](MapperOptions& o) -> bool& { return o.reflection_removal.reflection_removal_enabled; }},
-      {{"penetration_tolerance", "ray may end this far past glass (m)", T::kDouble},
-       [](MapperOptions& o) -> double& { return o.reflection_removal.penetration_tolerance; },
-       {},
-       {}},
-      {{"max_reflection_iterations", "batch re-processing passes", T::kInt},
-       {},
-       [](MapperOptions& o) -> int& { return o.reflection_removal.max_reflection_iterations; },
-       {}},
-      {{"first_pass_scan_stride", "batch: first pass inserts every Nth scan of each sensor",
-        T::kInt},
-       {},
-       [](MapperOptions& o) -> int& { return o.reflection_removal.first_pass_scan_stride; },
-       {}},
-      {{"search_pass_scan_stride",
-        "batch: later passes but the last insert every Nth scan of each sensor", T::kInt},
-       {},
-       [](MapperOptions& o) -> int& { return o.reflection_removal.search_pass_scan_stride; },
-       {}},
-      {{"glass_completion_max_gap", "free stretch of a glass line taken as glass (m, 0 off)",
-        T::kDouble},
-       [](MapperOptions& o) -> double& { return o.reflection_removal.glass_completion_max_gap; },
-       {},
-       {}},
-      {{"scan_buffer_size", "scans kept for online re-processing", T::kInt},
-       {},
-       [](MapperOptions& o) -> int& { return o.reflection_removal.scan_buffer_size; },
-       {}},
-  };
-  return table;
-}
-
-const FieldAccess* findField(const std::string& name) {
-  for (const FieldAccess& access : accessTable()) {
-    if (access.field.name == name) return &access;
+template <typename T>
+constexpr OptionField::Type typeOf() {
+  if constexpr (std::is_same_v<T, bool>) {
+    return OptionField::Type::kBool;
+  } else if constexpr (std::is_same_v<T, int>) {
+    return OptionField::Type::kInt;
+  } else {
+    return OptionField::Type::kDouble;
   }
-  return nullptr;
 }
 
 }  // namespace
@@ -253,43 +116,44 @@ const FieldAccess* findField(const std::string& name) {
 const std::vector<OptionField>& optionFields() {
   static const std::vector<OptionField> fields = [] {
     std::vector<OptionField> out;
-    for (const FieldAccess& access : accessTable())
-      out.push_back(access.field);
+    const MapperOptions defaults;
+    MapperOptions::forEachParameter(defaults, [&](const char* name, const char* description,
+                                                  const auto& field) {
+      out.push_back({name, description, typeOf<std::decay_t<decltype(field)>>()});
+    });
     return out;
   }();
   return fields;
 }
 
 bool setOption(MapperOptions& options, const std::string& name, double value) {
-  const FieldAccess* access = findField(name);
-  if (access == nullptr) return false;
-  switch (access->field.type) {
-    case OptionField::Type::kDouble:
-      access->real(options) = value;
-      break;
-    case OptionField::Type::kInt:
-      access->integer(options) = static_cast<int>(std::lround(value));
-      break;
-    case OptionField::Type::kBool:
-      access->flag(options) = value != 0.0;
-      break;
-  }
-  return true;
+  bool found = false;
+  MapperOptions::forEachParameter(options, [&](const char* field_name, const char*, auto& field) {
+    if (found || name != field_name) return;
+    found = true;
+    using T = std::decay_t<decltype(field)>;
+    if constexpr (std::is_same_v<T, bool>) {
+      field = value != 0.0;
+    } else if constexpr (std::is_same_v<T, int>) {
+      field = static_cast<int>(std::lround(value));
+    } else {
+      field = value;
+    }
+  });
+  return found;
 }
 
 double getOption(const MapperOptions& options, const std::string& name) {
-  const FieldAccess* access = findField(name);
-  if (access == nullptr) throw std::invalid_argument("unknown option " + name);
-  auto& mutable_options = const_cast<MapperOptions&>(options);
-  switch (access->field.type) {
-    case OptionField::Type::kDouble:
-      return access->real(mutable_options);
-    case OptionField::Type::kInt:
-      return access->integer(mutable_options);
-    case OptionField::Type::kBool:
-      return access->flag(mutable_options) ? 1.0 : 0.0;
-  }
-  return 0.0;
+  double value = 0.0;
+  bool found = false;
+  MapperOptions::forEachParameter(options, [&](const char* field_name, const char*,
+                                               const auto& field) {
+    if (found || name != field_name) return;
+    found = true;
+    value = static_cast<double>(field);
+  });
+  if (!found) throw std::invalid_argument("unknown option " + name);
+  return value;
 }
 
 }  // namespace rfm

@@ -29,11 +29,12 @@ int activeWindowTiles(double radius, double resolution, int tile_cells) {
 }
 
 ReflectanceField::ReflectanceField(const GridOptions& grid, const LogOddsOptions& log_odds,
-                                   const ActiveRegionOptions& region)
+                                   const ActiveRegionOptions& region, double window_radius)
     : geometry_(grid.resolution, grid.theta_bins),
       log_odds_(log_odds),
       window_(grid.tile_cells,
-              activeWindowTiles(region.windowRadius(), grid.resolution, grid.tile_cells)),
+              activeWindowTiles(std::max(region.active_region_radius, window_radius), grid.resolution,
+                                grid.tile_cells)),
       theta_bins_(grid.theta_bins),
       plane_(static_cast<size_t>(window_.sizeCells()) * window_.sizeCells()),
       mask_words_((grid.theta_bins + 63) / 64),
@@ -110,11 +111,7 @@ void ReflectanceField::restoreTiles(const std::vector<TileIndex>& tiles, Paralle
 }
 
 int ReflectanceField::reflectiveBins(const CellIndex& cell) const {
-  const uint64_t* mask = reflectiveMask(cell);
-  int count = 0;
-  for (int w = 0; w < mask_words_; ++w)
-    count += __builtin_popcountll(mask[w]);
-  return count;
+  return countMaskBits(reflectiveMask(cell), mask_words_);
 }
 
 double ReflectanceField::marginalOdds(const CellIndex& cell) const {

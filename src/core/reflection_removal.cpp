@@ -6,6 +6,7 @@
 #include "reflectance_field_map/core/ray_traversal.h"
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
 #include <utility>
 
@@ -45,6 +46,8 @@ ReflectionRemover::ReflectionRemover(const ReflectionRemovalOptions& options,
     : enabled_(options.reflection_removal_enabled),
       penetration_tolerance_(options.penetration_tolerance),
       buffer_size_(static_cast<size_t>(options.scan_buffer_size)),
+      static_blocking_min_bins_(static_cast<int>(
+          std::ceil(options.static_blocking_min_angle / field.geometry().binWidth() - 1e-9))),
       field_(field),
       classes_(classes) {}
 
@@ -144,10 +147,13 @@ double ReflectionRemover::walkTowardsGlass(const Ray& ray, PassThroughDetector& 
         ray.origin + direction * from, last, geometry.inverseResolution(), field_.window(), true,
         [&](int slot, int x, int y) {
           const CellClass c = classes_.atSlot(slot);
+          // Asked only of static cells: they let the ray pass where they reflect, and wherever
+          // the directions they reflect in are too few to tell (static_blocking_min_angle).
           auto reflective_near = [&](int bin) {
-            return reflectiveNear(
-                frozen_.active() ? frozen_.maskOf({x, y}) : field_.reflectiveMaskAt(slot), bin,
-                bins);
+            const uint64_t* mask =
+                frozen_.active() ? frozen_.maskOf({x, y}) : field_.reflectiveMaskAt(slot);
+            return reflectiveNear(mask, bin, bins) ||
+                   (mask && countMaskBits(mask, field_.maskWords()) < static_blocking_min_bins_);
           };
           if (!blocksRays(c)) {
             if (detector.blocked()) return detector.visit({x, y}, c, reflective_near, class_of);

@@ -126,10 +126,11 @@ TEST(BatchProcessor, EveryNthScanOfEachSensorKeepsEachSensorsOrder) {
 }
 
 // The batch classifies with batch_beta, not the live beta: with a batch_beta no cell can reach,
-// nothing is widely visible, whatever beta says.
+// nothing is widely visible, whatever beta says (and no cell is static for being solid).
 TEST(BatchProcessor, BatchClassifiesWithBatchBeta) {
   const std::vector<TimedScan> scans = paneWithWallBehind(1);
-  auto static_cells = [&](const MapperOptions& options) {
+  auto static_cells = [&](MapperOptions options) {
+    options.motion_removal.solid_max_missed_ratio = 0.0;
     const GlobalMap2D map = processBatch(scans, options, BatchMode::kMotionRemoval).map;
     std::vector<CellClass> classes;
     map.extract(map.bounds(), classes);

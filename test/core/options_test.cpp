@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <initializer_list>
 #include <limits>
 #include <set>
 
@@ -34,8 +33,11 @@ TEST(MapperOptions, EveryBadValueIsRejectedNamingTheField) {
       {"persistence_min_length", {-0.1, 1000.0}},
       {"departure_min_angle", {-0.1, 7.0}},
       {"departure_vacant_time", {-0.1, 2e6}},
-      {"opaque_min_angle", {-0.1, 7.0}},
-      {"opaque_min_length", {-0.1, 1000.0}},
+      {"solid_max_missed_ratio", {-0.1, 1001.0, nan}},
+      {"solid_min_share", {-0.1, 1.1, nan}},
+      {"solid_anchor_min_angle", {-0.1, 7.0, nan}},
+      {"glass_max_static_neighbours", {-2, 9}},
+      {"static_blocking_min_angle", {-0.1, 7.0, nan}},
       {"penetration_tolerance", {-0.1, 10.0}},
       {"max_reflection_iterations", {0, 1000}},
       {"first_pass_scan_stride", {0, 1001}},
@@ -67,42 +69,35 @@ TEST(MapperOptions, EveryBadValueIsRejectedNamingTheField) {
   }
 }
 
-// Fields that are not parameters (the batch sets them) are checked all the same: each value
-// given to set(options, value) must be rejected naming `field`.
-template <typename Value, typename Set>
-void expectRejected(const std::string& field, std::initializer_list<Value> values, Set&& set) {
-  for (Value value : values) {
-    MapperOptions options;
-    set(options, value);
-    try {
-      options.validate();
-      ADD_FAILURE() << field << " = " << value << " was accepted";
-    } catch (const InvalidOption& error) {
-      EXPECT_EQ(error.field(), field);
-    }
+// The layout is not a parameter (the batch sets it), and is checked all the same.
+void expectLayoutRejected(const std::string& field, const MapperLayout& layout) {
+  try {
+    Mapper mapper(MapperOptions{}, layout);
+    ADD_FAILURE() << field << " was accepted";
+  } catch (const InvalidOption& error) {
+    EXPECT_EQ(error.field(), field);
   }
 }
 
-TEST(MapperOptions, BadWindowRadiusIsRejected) {
-  expectRejected("window_radius", {-1.0, 201.0, std::numeric_limits<double>::quiet_NaN()},
-                 [](MapperOptions& o, double v) { o.active_region.window_radius = v; });
-  MapperOptions options;
-  options.active_region.window_radius = 30.0;
-  EXPECT_NO_THROW(options.validate());
-  EXPECT_DOUBLE_EQ(options.active_region.windowRadius(), 30.0);
-  options.active_region.window_radius = 0.0;
-  EXPECT_DOUBLE_EQ(options.active_region.windowRadius(), 10.0);
+TEST(MapperLayout, BadWindowRadiusIsRejected) {
+  for (double radius : {-1.0, MapperLayout::kMaxWindowRadius + 1.0,
+                        std::numeric_limits<double>::quiet_NaN()}) {
+    MapperLayout layout;
+    layout.window_radius = radius;
+    expectLayoutRejected("window_radius", layout);
+  }
 }
 
 // Single cells in the batch, blocks of 4 online, at most blocks of 16.
-TEST(MapperOptions, BadClearanceBlockShiftIsRejected) {
-  expectRejected("clearance_block_shift", {-1, 5},
-                 [](MapperOptions& o, int v) { o.reflection_removal.clearance_block_shift = v; });
-  MapperOptions options;
-  options.reflection_removal.clearance_block_shift = 0;
-  EXPECT_NO_THROW(options.validate());
-  options.reflection_removal.clearance_block_shift = 4;
-  EXPECT_NO_THROW(options.validate());
+TEST(MapperLayout, BadClearanceBlockShiftIsRejected) {
+  for (int shift : {-1, 5}) {
+    MapperLayout layout;
+    layout.clearance_block_shift = shift;
+    expectLayoutRejected("clearance_block_shift", layout);
+  }
+  MapperLayout layout;
+  layout.clearance_block_shift = 0;
+  EXPECT_NO_THROW(Mapper(MapperOptions{}, layout));
 }
 
 TEST(MapperOptions, DefaultsAreValidAndMatchThePaper) {

@@ -20,9 +20,11 @@ class AnchorHistory;
 
 // What the rules make of one reflective cell.
 struct CellAnchoring {
-  bool anchor = false;      // widely visible and still there: anchors, and is drawn static
+  bool anchor = false;  // widely visible, or solid over a wide angle, and still there: anchors,
+                        // and is drawn static
   bool persistent = false;  // confirmed for long and still there (persistence_min_cells)
-  bool opaque = false;      // never seen through (opaque_min_cells)
+  bool solid = false;       // missed in few bins for its reflective ones (solid_max_missed_ratio)
+  bool solid_anchor = false;  // solid, and neither departed nor arrived: counts towards the share
 };
 
 // The rules in the units the history counts in (ticks of the persistence clock, cells, theta
@@ -41,11 +43,21 @@ struct AnchorRules {
   // from new directions and hit by nothing, as when the robot looks back at where a person
   // stood from directions it never saw them from.
   int departure_vacant_ticks = 0;
-  // Cells reflective in at least this many bins and never seen through (no missed bin) anchor
-  // components at least `opaque_min_cells` long: an opaque surface glimpsed through a doorway
-  // is neither widely visible nor long confirmed, but nothing ever passed through it.
-  int opaque_min_bins = 0;
-  int opaque_min_cells = 0;
+  // A reflective cell missed in at most this many bins per reflective bin is solid: it returns
+  // from nearly wherever it is seen. Moving objects are seen through where they were, glass and
+  // metal away from their lobe, so their cells are missed in many more bins (0: off).
+  double solid_max_missed_ratio = 0.0;
+  // A component at least this share of whose runs lie in solid cells is structure, unless those
+  // cells departed or arrived (AnchorHistory::arrivedAt): it needs no widely visible cell, which
+  // sparse scans never make.
+  double solid_min_share = 0.5;
+  // Such a cell (solid, neither departed nor arrived) with this many reflective bins anchors its
+  // component as a widely visible one does (0: off).
+  int solid_anchor_min_bins = 0;
+  // Glass is a thin surface with open space on both sides. A cell that would be glass or metal
+  // with more static neighbours (of 8) than this lies against structure: it is that structure's
+  // surface, blurred by pose error, and static. Negative: off.
+  int glass_max_static_neighbours = -1;
 
   // Which cells keep a history. Cells with at least this many reflective bins at a tick (those
   // that could be widely visible) remember those bins (departures); max: none.
@@ -60,7 +72,7 @@ struct AnchorRules {
                                  const OccupancyRule& rule, const LogOddsModel& model);
   // Component extents are needed only by the rules with a minimum length.
   bool tracksExtents() const {
-    return persistence_min_cells > 0 || (opaque_min_bins > 0 && opaque_min_cells > 0);
+    return persistence_min_cells > 0;
   }
 
   // The rules applied to a reflective cell of `field` with `reflective_bins` bins,
@@ -91,6 +103,9 @@ class AnchorHistory {
   void clear();
 
   int confirmedTicksAt(int storage_index) const { return confirmed_ticks_[storage_index]; }
+  // Whether the cell became reflective after it was seen free (missed, nothing reflective) at a
+  // tick: something arrived where there was nothing. Cleared when it stops being reflective.
+  bool arrivedAt(int storage_index) const { return arrival_[storage_index] == kArrived; }
   // Bins of the cell that were reflective at a tick and are now missed with at least half the
   // clamp's confidence: something that was seen there is gone (a person who stood still, then
   // left). 0 for cells without history. Static structure, opaque, is not seen through from a
@@ -121,6 +136,9 @@ class AnchorHistory {
     std::vector<int8_t> at_tick;    // by bin: a certain bin's log-odds at the last tick
     uint8_t abandoned_ticks = 0;
   };
+  // Missed with at least half the clamp's confidence in some bin (and reflective in none: the
+  // caller asks only of such cells).
+  static bool seenFree(const ReflectanceField& field, int slot);
   void addReflectiveBins(const ReflectanceField& field, size_t storage_index,
                          DepartureHistory& history) const;
   void addCertainBins(const ReflectanceField& field, size_t storage_index,
@@ -129,6 +147,8 @@ class AnchorHistory {
   int mask_words_;
   int theta_bins_;
   std::vector<uint8_t> confirmed_ticks_;                 // by storage index
+  static constexpr uint8_t kSeenFree = 1, kArrived = 2;
+  std::vector<uint8_t> arrival_;                         // by storage index: kSeenFree, kArrived
   std::unordered_map<int, DepartureHistory> departure_;  // by storage index
   std::unordered_map<int, CertaintyHistory> certainty_;  // by storage index
 };

@@ -48,7 +48,7 @@ std::vector<const TimedScan*> everyNthScanOfEachSensor(const std::vector<TimedSc
 // `progress(done, total)` may be empty.
 // `inspect_field`, when set, sees the final reflectance field (e.g. for theta-resolved pictures).
 // Throws std::invalid_argument when the recording is too large for one window
-// (ActiveRegionOptions::kMaxWindowRadius).
+// (MapperLayout::kMaxWindowRadius).
 BatchResult processBatch(const std::vector<TimedScan>& scans, const MapperOptions& options,
                          BatchMode mode, const std::function<void(size_t, size_t)>& progress = {},
                          const std::function<void(const ReflectanceField&)>& inspect_field = {});

@@ -62,12 +62,25 @@ struct MapperStats {
   size_t archived_bytes = 0;
 };
 
+// How a mapper holds its region, beyond the user's parameters.
+struct MapperLayout {
+  // About 14 GB of field at 5 cm and 180 bins.
+  static constexpr double kMaxWindowRadius = 200.0;  // m
+  // m: a window wider than the active region needs (0: none). A batch holds a whole recording in
+  // one window; its rays still add evidence only within active_region_radius of their sensor.
+  double window_radius = 0.0;
+  // The reflection check leaps by a clearance map kept in blocks of 2^clearance_block_shift
+  // cells a side (ClearanceMap): blocks of 4 cells keep its rebuild at each online motion
+  // removal cheap; the batch rebuilds it once a pass and uses single cells, so rays leap closer.
+  int clearance_block_shift = 2;
+};
+
 // The one mapper that the node, the nodelet and the offline tool drive. Not thread-safe:
 // callers serialise addScan / removeMotion.
 class Mapper {
  public:
-  // Throws InvalidOption (naming the field) when `options` are out of range.
-  explicit Mapper(const MapperOptions& options);
+  // Throws InvalidOption (naming the field) when `options` or `layout` are out of range.
+  explicit Mapper(const MapperOptions& options, const MapperLayout& layout = MapperLayout());
   ~Mapper();
   Mapper(const Mapper&) = delete;
   Mapper& operator=(const Mapper&) = delete;

@@ -76,9 +76,11 @@ class MotionRemover {
   void joinRows(const CellBox& box, int row, int bins);
   void uniteNeighbour(size_t local, size_t n_local, int bins);
   void classifyBand(const ReflectanceField& field, const CellBox& box, const Band& band,
-                    std::vector<CellClass>& classes, MotionRemovalCounts& counts) const;
+                    std::vector<CellClass>& classes, MotionRemovalCounts& counts,
+                    std::vector<size_t>& glass) const;
   // Whether the component of `root` spans at least `min_cells` (0: any size).
   bool spansAtLeast(uint32_t root, int min_cells) const;
+
   uint32_t find(uint32_t node);
   void unite(uint32_t a, uint32_t b);
   bool widelyVisible(const ReflectanceField& field, int slot, int reflective_bins) const;
@@ -100,13 +102,17 @@ class MotionRemover {
   std::vector<uint8_t> rank_;
   std::vector<uint8_t> anchored_;    // per root: touches a widely visible or known static cell
   std::vector<uint8_t> persistent_;  // per root: holds a long-confirmed cell
-  std::vector<uint8_t> opaque_;      // per root: holds a never-seen-through cell
+  std::vector<uint32_t> runs_in_;     // per root: its runs
+  std::vector<uint32_t> solid_runs_;  // per root: its runs in solid cells that anchor
   struct Extent {
     int16_t min_x, min_y, max_x, max_y;  // box-local cells
   };
   std::vector<Extent> extent_;           // per root: bounding box of its cells
   std::vector<uint32_t> root_;           // final root of each run
   std::vector<uint8_t> widely_visible_;  // per box cell
+  std::vector<uint8_t> solid_;           // per box cell (AnchorRules::solid_max_missed_ratio)
+  std::vector<std::vector<size_t>> band_glass_;  // per band: its glass and metal cells
+
 
   // The box's tiles (of the field's window) and what classify does with each.
   int tile_cells_ = 1;

@@ -1,6 +1,7 @@
+// The user's parameters, one validated struct per component. Names match the ROS parameters of
+// config/default.yaml.
 #pragma once
 
-#include <algorithm>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -20,14 +21,22 @@ class InvalidOption : public std::invalid_argument {
   std::string field_;
 };
 
-// Each struct is one component's options; validate() throws InvalidOption naming the field.
-// Field names match the ROS parameter names of config/default.yaml.
+// Each struct is one component's parameters. validate() throws InvalidOption naming the field;
+// forEachParameter(self, visit) calls visit(name, description, field) for each of them, the
+// field a double&, int& or bool& (const when `self` is const), so one table serves reading and
+// writing them.
 
 struct GridOptions {
   double resolution = 0.05;  // m per cell
   int theta_bins = 180;      // direction bins over 2*pi (180 = 2 deg)
   int tile_cells = 16;       // cells per tile side: unit of scrolling and archiving
   void validate() const;
+  template <typename Self, typename Visit>
+  static void forEachParameter(Self& self, Visit&& visit) {
+    visit("resolution", "cell size (m)", self.resolution);
+    visit("theta_bins", "direction bins over 2*pi", self.theta_bins);
+    visit("tile_cells", "cells per tile side", self.tile_cells);
+  }
 };
 
 // Binary Bayes filter per (x, y, theta) bin, in log-odds, prior 0.5 (log-odds 0).
@@ -37,6 +46,13 @@ struct LogOddsOptions {
   double log_odds_min = -2.0;   // clamping keeps the filter responsive to change
   double log_odds_max = 3.5;
   void validate() const;
+  template <typename Self, typename Visit>
+  static void forEachParameter(Self& self, Visit&& visit) {
+    visit("log_odds_hit", "log-odds added by a hit", self.log_odds_hit);
+    visit("log_odds_miss", "log-odds added by a miss", self.log_odds_miss);
+    visit("log_odds_min", "lower clamp of a bin", self.log_odds_min);
+    visit("log_odds_max", "upper clamp of a bin", self.log_odds_max);
+  }
 };
 
 struct InsertionOptions {
@@ -46,18 +62,23 @@ struct InsertionOptions {
   // Threads that insert a scan, each taking its own theta bins (1 = the caller only).
   int insertion_threads = 2;
   void validate() const;
+  template <typename Self, typename Visit>
+  static void forEachParameter(Self& self, Visit&& visit) {
+    visit("clearing_distance", "misses for beams with no return (m)", self.clearing_distance);
+    visit("insertion_threads", "threads inserting a scan, split by theta bin",
+          self.insertion_threads);
+  }
 };
 
 struct ActiveRegionOptions {
   // m: rays add evidence within this distance of their sensor, into a robot-centred window.
   double active_region_radius = 10.0;
-  // m: a window larger than the radius needs (0: none). Not a parameter: the batch holds a whole
-  // recording in one window, and its rays still add evidence only within the radius.
-  double window_radius = 0.0;
-  // About 14 GB of field at 5 cm and 180 bins.
-  static constexpr double kMaxWindowRadius = 200.0;  // m
-  double windowRadius() const { return std::max(active_region_radius, window_radius); }
   void validate() const;
+  template <typename Self, typename Visit>
+  static void forEachParameter(Self& self, Visit&& visit) {
+    visit("active_region_radius", "robot-centred region updated each scan (m)",
+          self.active_region_radius);
+  }
 };
 
 struct OccupancyOptions {
@@ -68,12 +89,19 @@ struct OccupancyOptions {
   double beta = 30.0;
   // The offline batch's beta (processBatch). It classifies having seen the whole recording, so
   // it can ask for more: 40 is reflective over 62-70 deg at the clamp, wider than a person who
-  // stood still while the robot drove past (README, Results). Live, `beta` anchors a frame
-  // glimpsed in passing sooner, and glass with it.
+  // stood still while the robot drove past. Live, `beta` anchors a frame glimpsed in passing
+  // sooner, and glass with it.
   double batch_beta = 40.0;
   // Glassy cells reflective over at least this angle are reported as metal (wider lobe).
   double metal_min_angle = 0.2792526803190927;  // rad (16 deg): glass lobes are narrower
   void validate() const;
+  template <typename Self, typename Visit>
+  static void forEachParameter(Self& self, Visit&& visit) {
+    visit("alpha", "eq. 5: min reflective angle of an obstacle (rad)", self.alpha);
+    visit("beta", "eq. 7: min marginal odds of a widely visible cell (rad)", self.beta);
+    visit("batch_beta", "batch: eq. 7 threshold of the offline tool (rad)", self.batch_beta);
+    visit("metal_min_angle", "min reflective angle of metal (rad)", self.metal_min_angle);
+  }
 };
 
 struct MotionRemovalOptions {
@@ -88,29 +116,66 @@ struct MotionRemovalOptions {
   // person standing still is smaller than most walls. 0 (default): any size, because the end of
   // a corridor seen from afar is as short as a person (the real stationary recording).
   double persistence_min_length = 0.0;
-  // A widely visible or long-confirmed cell stops anchoring once rays have confidently passed
-  // through it in this much of the angle it was reflective in at a persistence tick: whatever
-  // stood there has gone (a person who stood still, then walked away). Opaque structure is never
-  // seen through from a direction it reflects in; glass reflects only where it is not seen
-  // through. rad, 0 disables.
+  // A widely visible, long-confirmed or solid cell stops anchoring once rays have confidently
+  // passed through it in this much of the angle it was reflective in at a persistence tick:
+  // whatever stood there has gone (a person who stood still, then walked away). Opaque
+  // structure is never seen through from a direction it reflects in; glass reflects only where
+  // it is not seen through. rad, 0 disables.
   double departure_min_angle = 0.10471975511965977;  // 6 deg: 3 bins at the default 2 deg
   // Such a cell also stops anchoring after this long seen through in new directions without
   // being hit once (checked at persistence ticks): the robot looking back, from directions it
   // never saw them from, at where a person stood. Structure seen at all is hit. s, 0 disables.
   double departure_vacant_time = 1.0;
-  // A cell reflective over at least this angle that no ray ever passed through anchors its
-  // component when the component is at least `opaque_min_length` long: a wall glimpsed through
-  // a doorway is neither widely visible nor long confirmed, but is never seen through, while a
-  // person walking by is soon seen through where they were. rad, 0 disables.
-  double opaque_min_angle = 0.10471975511965977;  // 6 deg
-  double opaque_min_length = 1.0;                 // m, longer bounding-box side; 0: any size
+  // A reflective cell missed in at most this many bins per reflective bin is solid: it returns
+  // from nearly wherever it is seen. A component at least `solid_min_share` of whose runs lie in
+  // solid cells (that neither departed nor arrived where the field had seen free space) is
+  // structure, however sparse the scans, and its solid cells are static. Moving objects are seen
+  // through where they were, glass and metal away from their lobe. 0 disables.
+  double solid_max_missed_ratio = 2.0;
+  double solid_min_share = 0.5;
+  // A solid cell reflective over at least this angle anchors its component as a widely visible
+  // one does: a window frame or pillar, solid over a wide angle but seen too briefly for eq. 7
+  // (sparse scans, the batch's strided passes), carries the glass beside it. rad, 0 disables.
+  double solid_anchor_min_angle = 0.2792526803190927;  // 16 deg
+  // A cell that would be glass or metal with more static neighbours (of 8) than this lies
+  // against structure: it is that structure's surface blurred by pose error, and static. Glass
+  // is a thin surface with open space on both sides. -1 disables.
+  int glass_max_static_neighbours = 2;
   void validate() const;
+  template <typename Self, typename Visit>
+  static void forEachParameter(Self& self, Visit&& visit) {
+    visit("motion_removal_enabled", "run Alg. 2", self.motion_removal_enabled);
+    visit("motion_removal_rate", "motion removal timer (Hz)", self.motion_removal_rate);
+    visit("persistence_time", "reflective this long without a break anchors like V (s, 0 off)",
+          self.persistence_time);
+    visit("persistence_min_length", "persistent cells anchor components at least this long (m)",
+          self.persistence_min_length);
+    visit("departure_min_angle",
+          "seen through over this much of its former reflective angle: anchors no more (rad, 0 off)",
+          self.departure_min_angle);
+    visit("departure_vacant_time",
+          "seen through in new directions, never hit, this long: anchors no more (s, 0 off)",
+          self.departure_vacant_time);
+    visit("solid_max_missed_ratio", "missed bins per reflective bin of a solid cell (0 off)",
+          self.solid_max_missed_ratio);
+    visit("solid_min_share", "share of a component's runs in solid cells that makes structure",
+          self.solid_min_share);
+    visit("solid_anchor_min_angle", "solid cells reflective over this anchor (rad, 0 off)",
+          self.solid_anchor_min_angle);
+    visit("glass_max_static_neighbours", "static neighbours of a cell that can be glass (-1 off)",
+          self.glass_max_static_neighbours);
+  }
 };
 
 struct ReflectionRemovalOptions {
   bool reflection_removal_enabled = true;
   // A ray may end this far beyond a glass/static cell before it counts as passing through it.
   double penetration_tolerance = 0.15;  // m
+  // A static cell blocks a ray (not reflective in its direction) only once it is reflective over
+  // at least this angle: only then are the directions it returns in known well enough to say it
+  // would have returned the ray. A wall seen from one or two places (sparse scans) is crossed
+  // by rays that pose error or its corners let pass. rad.
+  double static_blocking_min_angle = 0.2792526803190927;  // 16 deg
   // Batch re-processing passes (the paper's 1 loses glass on the shipped scenes, 3 changes
   // nothing there).
   int max_reflection_iterations = 2;
@@ -126,12 +191,25 @@ struct ReflectionRemovalOptions {
   // (GlassCompletion; 0: off).
   double glass_completion_max_gap = 2.0;  // m
   int scan_buffer_size = 400;             // online ring buffer of recent scans (per mapper)
-  // The glass check leaps over cells that cannot block a ray by a clearance map kept in blocks
-  // of 2^clearance_block_shift cells a side (ClearanceMap, at most kMaxBlockShift). Not a
-  // parameter: blocks of 4 cells keep its rebuild at each online motion removal cheap; the batch
-  // rebuilds it once per pass and uses single cells, so rays leap closer to structure.
-  int clearance_block_shift = 2;
   void validate() const;
+  template <typename Self, typename Visit>
+  static void forEachParameter(Self& self, Visit&& visit) {
+    visit("reflection_removal_enabled", "run Alg. 3", self.reflection_removal_enabled);
+    visit("penetration_tolerance", "ray may end this far past glass (m)",
+          self.penetration_tolerance);
+    visit("static_blocking_min_angle", "reflective angle from which static cells block (rad)",
+          self.static_blocking_min_angle);
+    visit("max_reflection_iterations", "batch re-processing passes",
+          self.max_reflection_iterations);
+    visit("first_pass_scan_stride", "batch: first pass inserts every Nth scan of each sensor",
+          self.first_pass_scan_stride);
+    visit("search_pass_scan_stride",
+          "batch: later passes but the last insert every Nth scan of each sensor",
+          self.search_pass_scan_stride);
+    visit("glass_completion_max_gap", "free stretch of a glass line taken as glass (m, 0 off)",
+          self.glass_completion_max_gap);
+    visit("scan_buffer_size", "scans kept for online re-processing", self.scan_buffer_size);
+  }
 };
 
 struct MapperOptions {
@@ -143,18 +221,29 @@ struct MapperOptions {
   MotionRemovalOptions motion_removal;
   ReflectionRemovalOptions reflection_removal;
   void validate() const;
+  template <typename Self, typename Visit>
+  static void forEachParameter(Self& self, Visit&& visit) {
+    GridOptions::forEachParameter(self.grid, visit);
+    LogOddsOptions::forEachParameter(self.log_odds, visit);
+    InsertionOptions::forEachParameter(self.insertion, visit);
+    ActiveRegionOptions::forEachParameter(self.active_region, visit);
+    OccupancyOptions::forEachParameter(self.occupancy, visit);
+    MotionRemovalOptions::forEachParameter(self.motion_removal, visit);
+    ReflectionRemovalOptions::forEachParameter(self.reflection_removal, visit);
+  }
 };
 
-// Every MapperOptions field by its parameter name, so ROS parameters and YAML files are read
-// through one table. Booleans are 0/1, integers are rounded.
+// Every MapperOptions parameter by name, so ROS parameters and YAML files are read through one
+// table. Booleans are 0/1, integers are rounded.
 struct OptionField {
   std::string name;
   std::string description;
   enum class Type { kDouble, kInt, kBool } type;
 };
 const std::vector<OptionField>& optionFields();
-// False when `name` is not a field.
+// False when `name` is not a parameter.
 bool setOption(MapperOptions& options, const std::string& name, double value);
+// Throws std::invalid_argument when `name` is not a parameter.
 double getOption(const MapperOptions& options, const std::string& name);
 
 }  // namespace rfm

@@ -15,7 +15,7 @@ namespace rfm {
 class PlainOccupancyGrid {
  public:
   PlainOccupancyGrid(const GridOptions& grid, const LogOddsOptions& log_odds,
-                     const ActiveRegionOptions& region);
+                     const ActiveRegionOptions& region, double window_radius = 0.0);
 
   const RollingWindow& window() const { return window_; }
   double resolution() const { return resolution_; }

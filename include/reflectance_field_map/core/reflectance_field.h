@@ -33,6 +33,14 @@ inline bool reflectiveNear(const uint64_t* mask, int bin, int bins) {
                   maskBit(mask, (bin + bins - 1) % bins));
 }
 
+// How many bits of a mask of `words` words are set.
+inline int countMaskBits(const uint64_t* mask, int words) {
+  int count = 0;
+  for (int w = 0; w < words; ++w)
+    count += __builtin_popcountll(mask[w]);
+  return count;
+}
+
 // Calls visit(bin) for every set bit of a mask of `words` words, in increasing order.
 template <typename Visit>
 void forEachMaskBit(const uint64_t* mask, int words, Visit&& visit) {
@@ -50,8 +58,9 @@ void forEachMaskBit(const uint64_t* mask, int words, Visit&& visit) {
 // the bins. Tiles leaving the window are archived compressed and restored on return.
 class ReflectanceField {
  public:
+  // The window holds the active region, or `window_radius` (m) around its centre when larger.
   ReflectanceField(const GridOptions& grid, const LogOddsOptions& log_odds,
-                   const ActiveRegionOptions& region);
+                   const ActiveRegionOptions& region, double window_radius = 0.0);
 
   const GridGeometry& geometry() const { return geometry_; }
   const LogOddsModel& logOdds() const { return log_odds_; }
