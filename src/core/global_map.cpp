@@ -1,7 +1,9 @@
 #include "reflectance_field_map/core/global_map.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <istream>
+#include <limits>
 #include <ostream>
 
 namespace rfm {
@@ -114,6 +116,11 @@ bool GlobalMap2D::read(std::istream& in) {
     }
     const TileIndex tile(static_cast<int>(tile_key >> 32),
                          static_cast<int>(static_cast<uint32_t>(tile_key)));
+    // Its cells' indices (tile * tile_cells_) must fit an int.
+    const int64_t tile_limit = std::numeric_limits<int>::max() / tile_cells_ - 1;
+    if (std::abs(int64_t{tile.x()}) > tile_limit || std::abs(int64_t{tile.y()}) > tile_limit) {
+      return false;
+    }
     loaded.bounds_ =
         loaded.bounds_.unite({tile * tile_cells_, (tile + TileIndex(1, 1)) * tile_cells_});
     loaded.tiles_.emplace(tile_key, std::move(storage));
