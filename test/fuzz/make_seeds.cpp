@@ -1,6 +1,7 @@
 // Writes the binary seeds of test/fuzz/corpus: scans for laser_scan (the layout its target
 // reads) and saved states for mapper_load (Mapper::save with the target's options). Usage:
-// make_seeds CORPUS_DIR (the directory holding laser_scan/ and mapper_load/).
+// rfm_fuzz_make_seeds CORPUS_DIR (the directory holding laser_scan/ and mapper_load/); built by
+// `make rfm_fuzz_make_seeds` in a workspace's build directory.
 #include "small_mapper.h"
 
 #include "reflectance_field_map/core/mapper.h"
