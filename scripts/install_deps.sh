@@ -11,7 +11,7 @@ apt-get install -y -q --no-install-recommends \
   libroscpp-dev librosbag-dev libtf2-ros-dev libtf2-eigen-dev libtf2-geometry-msgs-dev \
   libsensor-msgs-dev libnav-msgs-dev libmap-msgs-dev libvisualization-msgs-dev libstd-srvs-dev \
   libnodeletlib-dev libnodelet-dev pluginlib-dev libdiagnostic-updater-dev \
-  librostest-dev python3-rostest libgtest-dev libeigen3-dev libyaml-cpp-dev libpng-dev \
+  librostest-dev python3-rostest libgtest-dev libeigen3-dev libyaml-cpp-dev libpng-dev zlib1g-dev \
   libbenchmark-dev liboctomap-dev \
   python3-rostopic python3-rosnode python3-roslaunch python3-rosservice rosbash tf2-tools \
   libnodeletlib-tools \

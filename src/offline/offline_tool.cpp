@@ -131,7 +131,8 @@ int runOffline(const OfflineArguments& args, std::ostream& log) {
     });
     stage = Clock::now();
     writeMapServerFiles(args.out, "map", result.map, options.grid.resolution);
-    summary.files = {"map.yaml", "map.pgm"};
+    writeClassesPgm(args.out, result.map);
+    summary.files = {"map.yaml", "map.pgm", "classes.pgm"};
     const int scale = render::autoScale(result.map.bounds());
     const render::RgbImage layers = render::renderMap(result.map, scale);
     if (!layers.empty()) {

@@ -36,6 +36,33 @@ void checkStream(const std::ofstream& out, const std::string& path) {
   if (!out) throw OutputError("cannot write " + path);
 }
 
+// The cells map.pgm and classes.pgm cover: the map's bounds, or one unknown cell at the origin
+// when the map is empty.
+CellBox pictureBox(const GlobalMap2D& map) {
+  const CellBox box = map.bounds();
+  return box.empty() ? CellBox{CellIndex(0, 0), CellIndex(1, 1)} : box;
+}
+
+// P5 picture of `box`, maxval 255, one byte per cell from value_of, top row = highest y.
+template <typename ValueOf>
+void writeCellPgm(const std::string& path, const std::string& comment, const CellBox& box,
+                  const GlobalMap2D& map, ValueOf value_of) {
+  std::vector<CellClass> cells;
+  map.extract(box, cells);
+  const int width = box.width(), height = box.height();
+  std::ofstream out(path, std::ios::binary);
+  checkStream(out, path);
+  out << "P5\n# " << comment << "\n" << width << ' ' << height << "\n255\n";
+  std::vector<uint8_t> row(static_cast<size_t>(width));
+  for (int y = height - 1; y >= 0; --y) {  // PGM rows run top down, the map's y up
+    const CellClass* cell = &cells[static_cast<size_t>(y) * static_cast<size_t>(width)];
+    for (int x = 0; x < width; ++x)
+      row[static_cast<size_t>(x)] = value_of(cell[x]);
+    out.write(reinterpret_cast<const char*>(row.data()), static_cast<std::streamsize>(width));
+  }
+  checkStream(out, path);
+}
+
 }  // namespace
 
 void makeOutputDirectory(const std::string& dir) {
@@ -47,28 +74,30 @@ void makeOutputDirectory(const std::string& dir) {
   }
 }
 
+uint8_t classCode(CellClass c) {
+  switch (c) {
+    case CellClass::kUnknown:
+      return kClassCodeUnknown;
+    case CellClass::kFree:
+      return kClassCodeFree;
+    case CellClass::kStatic:
+    case CellClass::kOccupied:  // an obstacle no rule classified: the plain grid's walls
+      return kClassCodeStatic;
+    case CellClass::kGlass:
+      return kClassCodeGlass;
+    case CellClass::kMetal:
+      return kClassCodeMetal;
+    case CellClass::kMotion:
+      return kClassCodeMotion;
+  }
+  return kClassCodeUnknown;
+}
+
 void writeMapServerFiles(const std::string& dir, const std::string& stem, const GlobalMap2D& map,
                          double resolution) {
-  CellBox box = map.bounds();
-  if (box.empty()) box = {CellIndex(0, 0), CellIndex(1, 1)};
-  std::vector<CellClass> cells;
-  map.extract(box, cells);
-  const int width = box.width(), height = box.height();
-
+  const CellBox box = pictureBox(map);
   const std::string pgm_path = (std::filesystem::path(dir) / (stem + ".pgm")).string();
-  {
-    std::ofstream out(pgm_path, std::ios::binary);
-    checkStream(out, pgm_path);
-    out << "P5\n# reflectance_field_map rfm_offline\n" << width << ' ' << height << "\n255\n";
-    std::vector<uint8_t> row(static_cast<size_t>(width));
-    for (int y = height - 1; y >= 0; --y) {  // PGM rows run top down, the map's y up
-      const CellClass* cell = &cells[static_cast<size_t>(y) * static_cast<size_t>(width)];
-      for (int x = 0; x < width; ++x)
-        row[static_cast<size_t>(x)] = pgmValue(cell[x]);
-      out.write(reinterpret_cast<const char*>(row.data()), static_cast<std::streamsize>(width));
-    }
-    checkStream(out, pgm_path);
-  }
+  writeCellPgm(pgm_path, "reflectance_field_map rfm_offline", box, map, pgmValue);
 
   const std::string yaml_path = (std::filesystem::path(dir) / (stem + ".yaml")).string();
   std::ofstream out(yaml_path);
@@ -85,6 +114,13 @@ void writeMapServerFiles(const std::string& dir, const std::string& stem, const 
       << "occupied_thresh: 0.65\n"
       << "free_thresh: 0.196\n";
   checkStream(out, yaml_path);
+}
+
+void writeClassesPgm(const std::string& dir, const GlobalMap2D& map) {
+  const std::string path = (std::filesystem::path(dir) / "classes.pgm").string();
+  writeCellPgm(path,
+               "reflectance_field_map classes: 0 unknown 1 free 2 static 3 glass 4 metal 5 motion",
+               pictureBox(map), map, classCode);
 }
 
 void writeLabelsBag(const std::string& path, const std::string& topic, const BagScans& input,

@@ -141,7 +141,8 @@ class OfflineEndToEnd : public ::testing::Test {
 };
 
 void expectOutputs(const std::string& out) {
-  for (const char* name : {"map.yaml", "map.pgm", "layers.png", "labels.bag", "summary.json"}) {
+  for (const char* name :
+       {"map.yaml", "map.pgm", "classes.pgm", "layers.png", "labels.bag", "summary.json"}) {
     EXPECT_TRUE(fs::is_regular_file(fs::path(out) / name)) << name;
     EXPECT_GT(fs::file_size(fs::path(out) / name), 0u) << name;
   }
@@ -184,6 +185,32 @@ TEST_F(OfflineEndToEnd, TwoLidarsWithTf) {
     EXPECT_TRUE(value == 0 || value == 205 || value == 254) << value << " x " << count;
   }
   EXPECT_GT(values[254], 0);  // the room is free
+
+  // classes.pgm: map.pgm's cells, a class code each, agreeing with map.pgm cell by cell.
+  std::ifstream classes_pgm(out + "/classes.pgm", std::ios::binary);
+  int classes_width = 0, classes_height = 0;
+  classes_pgm >> magic;
+  EXPECT_EQ(magic, "P5");
+  classes_pgm.ignore(1);
+  std::getline(classes_pgm, comment);
+  classes_pgm >> classes_width >> classes_height >> max_value;
+  classes_pgm.ignore(1);
+  ASSERT_EQ(classes_width, width);
+  ASSERT_EQ(classes_height, height);
+  EXPECT_EQ(max_value, 255);
+  std::vector<unsigned char> codes(pixels.size());
+  classes_pgm.read(reinterpret_cast<char*>(codes.data()),
+                   static_cast<std::streamsize>(codes.size()));
+  ASSERT_TRUE(classes_pgm.good());
+  std::map<int, int> code_counts;
+  for (size_t i = 0; i < codes.size(); ++i) {
+    ++code_counts[codes[i]];
+    const int expected_pgm = codes[i] == 0 ? 205 : (codes[i] >= 2 && codes[i] <= 4 ? 0 : 254);
+    ASSERT_LE(codes[i], 5) << "cell " << i;
+    ASSERT_EQ(pixels[i], expected_pgm) << "cell " << i << " code " << int(codes[i]);
+  }
+  EXPECT_GT(code_counts[1], 0);                   // free
+  EXPECT_GT(code_counts[2] + code_counts[3], 0);  // the room's walls
 
   const rfm::render::RgbImage layers = rfm::render::readPng(out + "/layers.png");
   EXPECT_EQ(layers.width() % width, 0);

@@ -5,6 +5,7 @@
 #include "reflectance_field_map/core/options.h"
 #include "reflectance_field_map/offline/bag_input.h"
 
+#include <cstdint>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -28,6 +29,23 @@ void makeOutputDirectory(const std::string& dir);
 // cell at the origin when the map is empty).
 void writeMapServerFiles(const std::string& dir, const std::string& stem, const GlobalMap2D& map,
                          double resolution);
+
+// classes.pgm codes (a contract: users' tools and rfm_eval read them).
+constexpr uint8_t kClassCodeUnknown = 0;
+constexpr uint8_t kClassCodeFree = 1;
+constexpr uint8_t kClassCodeStatic = 2;
+constexpr uint8_t kClassCodeGlass = 3;
+constexpr uint8_t kClassCodeMetal = 4;
+constexpr uint8_t kClassCodeMotion = 5;
+
+// The classes.pgm code of a class. An obstacle no rule classified (CellClass::kOccupied: the
+// plain grid, --no-motion-removal) is static.
+uint8_t classCode(CellClass c);
+
+// `dir`/classes.pgm: the geometry of map.pgm (same cells, width, height and row order, so
+// map.yaml's origin and resolution hold for it), P5 with maxval 255, one byte per cell holding
+// classCode().
+void writeClassesPgm(const std::string& dir, const GlobalMap2D& map);
 
 // labels.bag: one reflectance_field_map/RayLabels per scan on `topic`, header copied from the
 // scan (seq, stamp, frame_id), recorded at the scan's bag time. Beam order is the bag's.

@@ -1,0 +1,55 @@
+#!/usr/bin/env bash
+# Checks one figure of scripts/run_real_evaluation.sh's results.tsv against the issue's target.
+#
+#   check_real_results.sh DATA RESULTS.tsv recordings        every recording has its figures
+#   check_real_results.sh DATA RESULTS.tsv walls_kept NAME   walls kept >= 98 %
+#   check_real_results.sh DATA RESULTS.tsv no_glass NAME     no cell drawn glass or metal
+#   check_real_results.sh DATA RESULTS.tsv people_left NAME  people left <= the plain grid's
+# Exits 77 (skipped) when DATA/real is absent.
+set -euo pipefail
+data="$1" results="$2" check="$3" arg="${4:-}"
+if [[ ! -d "$data/real" ]]; then
+  echo "skipped: no $data/real (the recordings of ../shared/data)"
+  exit 77
+fi
+[[ -f "$results" ]] || { echo "no $results: real_data_convert_and_map did not run" >&2; exit 1; }
+
+field() {  # field NAME COLUMN
+  awk -F'\t' -v name="$1" -v column="$2" '
+    NR == 1 { for (i = 1; i <= NF; ++i) index_of[$i] = i; next }
+    $1 == name { print $(index_of[column]); found = 1 }
+    END { if (!found) exit 1 }' "$results"
+}
+
+case "$check" in
+  recordings)
+    expected=$( (ls "$data"/real/*.log.gz; ls "$data"/real/*.bag) 2> /dev/null |
+      xargs -n1 basename | sed 's/\.log\.gz$//; s/\.bag$//' | sort)
+    status=0
+    for name in $expected; do
+      kept=$(field "$name" walls_kept_percent) || { echo "$name: no figures"; status=1; continue; }
+      if [[ ! "$kept" =~ ^[0-9]+(\.[0-9]+)?$ ]]; then echo "$name: walls kept '$kept'"; status=1; fi
+      echo "$name: converted, mapped twice and measured (walls kept $kept %)"
+    done
+    exit $status
+    ;;
+  walls_kept)
+    kept=$(field "$arg" walls_kept_percent)
+    echo "$arg: walls kept $kept % (target >= 98 %)"
+    awk -v k="$kept" 'BEGIN { exit !(k >= 98.0) }'
+    ;;
+  no_glass)
+    glass=$(field "$arg" rfm_glass) metal=$(field "$arg" rfm_metal)
+    echo "$arg: $glass cells drawn glass and $metal metal in a room without either (target 0)"
+    [[ "$glass" == 0 && "$metal" == 0 ]]
+    ;;
+  people_left)
+    rfm=$(field "$arg" people_left_rfm) plain=$(field "$arg" people_left_plain)
+    echo "$arg: people left: RFM $rfm cells, plain grid $plain (target: RFM <= plain grid)"
+    [[ "$rfm" =~ ^[0-9]+$ && "$plain" =~ ^[0-9]+$ ]] && ((rfm <= plain))
+    ;;
+  *)
+    echo "unknown check $check" >&2
+    exit 2
+    ;;
+esac
