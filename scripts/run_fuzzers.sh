@@ -8,7 +8,7 @@
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/sanitize_workspace.sh"
 seconds="${RFM_FUZZ_SECONDS:-30}"
-targets="${RFM_FUZZ_TARGETS:-laser_scan mapper_load scene bag_scans}"
+targets="${RFM_FUZZ_TARGETS:-laser_scan mapper_load scene bag_scans carmen_log}"
 corpus_root="$rfm_source_dir/test/fuzz/corpus"
 bin="$rfm_sanitize_ws/devel/lib/reflectance_field_map"
 for target in $targets; do

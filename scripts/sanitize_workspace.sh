@@ -1,8 +1,9 @@
 # Sourced by run_sanitized_tests.sh and run_fuzzers.sh: the sanitizer build, in one place.
 #   rfm_sanitize_ws     its catkin workspace: $RFM_SANITIZE_WS, by default rfm_ws_asan beside the
 #                       checkout
-#   rfm_sanitize_build  builds the package there with clang and -DRFM_SANITIZE=ON (ASan, UBSan
-#                       and libFuzzer's coverage), the tests and the fuzz targets with it
+#   rfm_sanitize_build  builds there, with clang and -DRFM_SANITIZE=ON (ASan, UBSan and
+#                       libFuzzer's coverage), what the tests run and the fuzz targets (target
+#                       `tests`: not the benchmarks)
 source "$(dirname "${BASH_SOURCE[0]}")/workspace.sh"
 rfm_sanitize_ws="${RFM_SANITIZE_WS:-$(dirname "$rfm_source_dir")/rfm_ws_asan}"
 
@@ -18,5 +19,5 @@ rfm_sanitize_build() {
   (cd "$rfm_sanitize_ws" && CC=clang CXX=clang++ catkin_make -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only" -DCATKIN_ENABLE_TESTING=ON \
     -DRFM_WERROR=ON -DRFM_SANITIZE=ON -DPYTHON_EXECUTABLE=/usr/bin/python3 \
-    --make-args all tests -j"$(nproc)")
+    --make-args tests -j"$(nproc)")
 }
