@@ -5,6 +5,8 @@
 #include <cstring>
 #include <set>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 namespace rfm::fuzz {
 
@@ -25,14 +27,29 @@ inline std::string_view bagHeaderValue(const uint8_t* begin, const uint8_t* end,
   return {};
 }
 
+// True when [header, header + length) is a sequence of fields (a 4-byte length, then that many
+// bytes) that ends where it should.
+inline bool bagFieldsWellFormed(const uint8_t* header, size_t length) {
+  for (size_t field = 0; field < length;) {
+    if (length - field < 4) return false;
+    uint32_t field_length = 0;
+    std::memcpy(&field_length, header + field, 4);
+    field += 4;
+    if (field_length > length - field) return false;
+    field += field_length;
+  }
+  return true;
+}
+
 // True when the records in [data + from, data + to) are well formed: each a 4-byte header
 // length, the header (fields of a 4-byte length and "name=value", each inside it), a 4-byte data
-// length and the data, all inside the range; chunks uncompressed, their records well formed too,
-// and each index entry at a record of its chunk.
+// length and the data, all inside the range; a connection's data fields as well; chunks
+// uncompressed, their records well formed too, and each index entry at a record of its chunk.
 // Adds where each record starts to `starts` and the positions records give of others (index_pos,
 // chunk_pos) to `pointed`.
 inline bool bagRecordsWellFormed(const uint8_t* data, size_t from, size_t to,
-                                 std::set<uint64_t>& starts, std::set<uint64_t>& pointed) {
+                                 std::set<uint64_t>& starts, std::set<uint64_t>& pointed,
+                                 std::vector<std::pair<uint64_t, char>>* records = nullptr) {
   auto block = [&](size_t& position, size_t& length) {  // a length-prefixed block
     if (to - position < 4) return false;
     uint32_t claimed = 0;
@@ -45,18 +62,12 @@ inline bool bagRecordsWellFormed(const uint8_t* data, size_t from, size_t to,
   std::set<uint64_t> chunk_starts;  // where the records of the last chunk start
   size_t chunk_begin = 0;
   for (size_t at = from; at < to;) {
-    starts.insert(at);
+    const size_t record = at;
+    starts.insert(record);
     size_t header_length = 0, data_length = 0;
     if (!block(at, header_length)) return false;
     const uint8_t* header = data + at;
-    for (size_t field = 0; field < header_length;) {
-      if (header_length - field < 4) return false;
-      uint32_t field_length = 0;
-      std::memcpy(&field_length, header + field, 4);
-      field += 4;
-      if (field_length > header_length - field) return false;
-      field += field_length;
-    }
+    if (!bagFieldsWellFormed(header, header_length)) return false;
     at += header_length;
     if (!block(at, data_length)) return false;
     for (const char* name : {"index_pos", "chunk_pos"}) {
@@ -67,6 +78,11 @@ inline bool bagRecordsWellFormed(const uint8_t* data, size_t from, size_t to,
       pointed.insert(position);
     }
     const std::string_view op = bagHeaderValue(header, header + header_length, "op");
+    if (records) records->emplace_back(record, op.size() == 1 ? op[0] : 0);
+    // A connection record's data is the connection's header: fields too.
+    if (op.size() == 1 && op[0] == 0x07 && !bagFieldsWellFormed(data + at, data_length)) {
+      return false;
+    }
     if (op.size() == 1 && op[0] == 0x05) {  // a chunk: its records, uncompressed, in its data
       if (bagHeaderValue(header, header + header_length, "compression") != "none") return false;
       std::set<uint64_t> inner_pointed;
@@ -88,21 +104,52 @@ inline bool bagRecordsWellFormed(const uint8_t* data, size_t from, size_t to,
   return true;
 }
 
-// True when a ROS bag (format 2.0) is well formed as bagRecordsWellFormed says and every
-// position one record gives of another is where a record starts (or the file's end).
-// rosbag::Bag::open trusts the lengths a file claims: it allocates a record's header and data at
-// them (a 10 KB file can ask for 4 GB), and ros::Header::parse reads a field at its claimed
-// length past the header's end. The bag target feeds rosbag only well-formed files, until
-// readBagScans checks them itself (doc/fuzzing.md, open findings); compressed chunks, whose
-// records cannot be checked before rosbag decompresses them, are left out for the same reason.
+// True when a ROS bag (format 2.0) is well formed as bagRecordsWellFormed says, every position
+// one record gives of another is where a record starts (or the file's end), and the bag header's
+// conn_count connection records and chunk_count chunk infos follow its index_pos, as rosbag reads
+// them. rosbag::Bag::open trusts what a file claims: it allocates a record's header and data at
+// their lengths (a 10 KB file can ask for 4 GB), reads the counted records past the file's end,
+// and ros::Header::parse reads a field at its claimed length past the header's end. The bag target
+// feeds rosbag only well-formed files, until readBagScans checks them itself (doc/fuzzing.md,
+// open findings); compressed chunks, whose records cannot be checked before rosbag decompresses
+// them, are left out for the same reason.
 inline bool bagRecordsFitFile(const uint8_t* data, size_t size) {
-  static constexpr char kMagic[] = "#ROSBAG V2.0\n";
-  constexpr size_t kMagicLength = sizeof(kMagic) - 1;
-  if (size < kMagicLength || std::memcmp(data, kMagic, kMagicLength) != 0) return true;
+  // rosbag reads any "#ROS<word> V<major>.<minor>" line (sscanf: whitespace loosely, older formats
+  // by other readers): only the exact 2.0 line is checked and fed; others that start so are not.
+  static constexpr char kPrefix[] = "#ROS";
+  static constexpr char kVersion2[] = "#ROSBAG V2.0\n";
+  if (size < sizeof(kPrefix) - 1 || std::memcmp(data, kPrefix, sizeof(kPrefix) - 1) != 0) {
+    return true;  // rosbag refuses it
+  }
+  const size_t first = sizeof(kVersion2) - 1;
+  if (size < first || std::memcmp(data, kVersion2, first) != 0) return false;
   std::set<uint64_t> starts, pointed;
-  if (!bagRecordsWellFormed(data, kMagicLength, size, starts, pointed)) return false;
+  std::vector<std::pair<uint64_t, char>> records;  // top level: start, op
+  if (!bagRecordsWellFormed(data, first, size, starts, pointed, &records)) return false;
   for (const uint64_t position : pointed)
     if (position != size && starts.count(position) == 0) return false;
+  if (records.empty() || records.front().second != 0x03) return true;  // rosbag refuses it
+  const uint8_t* header = data + first + 4;
+  uint32_t header_length = 0;
+  std::memcpy(&header_length, data + first, 4);
+  auto count = [&](const char* name) -> uint64_t {
+    const std::string_view value = bagHeaderValue(header, header + header_length, name);
+    uint32_t number = 0;
+    if (value.size() == 4) std::memcpy(&number, value.data(), 4);
+    return number;
+  };
+  const std::string_view index = bagHeaderValue(header, header + header_length, "index_pos");
+  uint64_t index_pos = 0;
+  if (index.size() == 8) std::memcpy(&index_pos, index.data(), 8);
+  size_t next = 0;
+  while (next < records.size() && records[next].first != index_pos)
+    ++next;
+  for (const auto& [name, op] : {std::pair<const char*, char>{"conn_count", 0x07},
+                                 std::pair<const char*, char>{"chunk_count", 0x06}}) {
+    for (uint64_t k = count(name); k > 0; --k, ++next) {
+      if (next >= records.size() || records[next].second != op) return false;
+    }
+  }
   return true;
 }
 
