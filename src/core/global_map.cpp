@@ -1,7 +1,9 @@
 #include "reflectance_field_map/core/global_map.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <istream>
+#include <limits>
 #include <ostream>
 
 namespace rfm {

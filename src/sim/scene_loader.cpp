@@ -14,6 +14,13 @@ namespace rfm::sim {
 namespace {
 
 constexpr double kDegToRad = M_PI / 180.0;
+// Bounds that keep a scene's cost finite: a scene is a building, its points within this many
+// metres of the origin (the walk checks and the simulation step along every path).
+constexpr double kMaxCoordinate = 1000.0;
+// Panes narrower than this are no window; closer mullions would only multiply surfaces.
+constexpr double kMinMullionSpacing = 0.1;
+// Every simulated ray is tested against every surface: more than this makes rfm_sim crawl.
+constexpr std::size_t kMaxSurfaces = 2000;
 
 class Parser {
  public:
@@ -98,6 +105,16 @@ class Parser {
     return node.Scalar();
   }
 
+  double coordinate(const YAML::Node& node, const std::string& field) const {
+    const double value = number(node, field);
+    if (std::abs(value) > kMaxCoordinate) {
+      std::ostringstream message;
+      message << "must be within " << kMaxCoordinate << " m of the origin, got " << value;
+      fail(field, message.str());
+    }
+    return value;
+  }
+
   Eigen::Vector2d point(const YAML::Node& node, const std::string& field,
                         double* third = nullptr) const {
     const std::size_t max_size = third ? 3 : 2;
@@ -105,7 +122,36 @@ class Parser {
       fail(field, third ? "expected [x, y] or [x, y, pause_s]" : "expected [x, y]");
     }
     if (third) *third = node.size() == 3 ? number(node[2], index(field, 2)) : 0.0;
-    return {number(node[0], index(field, 0)), number(node[1], index(field, 1))};
+    return {coordinate(node[0], index(field, 0)), coordinate(node[1], index(field, 1))};
+  }
+
+  // mullion_spacing: 0 (none), or panes at least kMinMullionSpacing wide and wider than the
+  // mullions between them (as wide as the frame).
+  double mullionSpacing(const YAML::Node& wall, const std::string& wall_field, double frame) const {
+    const double spacing = number(wall, wall_field, "mullion_spacing", 0.0, 0.0, 1000.0);
+    const double least = std::max(kMinMullionSpacing, 2.0 * frame);
+    if (spacing > 0.0 && spacing < least) {
+      std::ostringstream message;
+      message << "must be 0 (no mullions) or at least " << least
+              << " m (0.1 m, and twice the frame), got " << spacing;
+      fail(join(wall_field, "mullion_spacing"), message.str());
+    }
+    return spacing;
+  }
+
+  // Refuses a wall of `length` m that would take the scene past kMaxSurfaces (a shiny wall has
+  // a frame at each end, a mullion and a pane per spacing; a diffuse one is a single surface).
+  void checkSurfaceCount(const World& world, double length, Material material,
+                         double mullion_spacing, const std::string& wall_field) const {
+    const bool framed = material != Material::kDiffuse;
+    const double panes =
+        framed && mullion_spacing > 0.0 ? std::round(length / mullion_spacing) : 1.0;
+    const double surfaces = static_cast<double>(world.surfaceCount()) + 2.0 * panes + 3.0;
+    if (surfaces <= static_cast<double>(kMaxSurfaces)) return;
+    std::ostringstream message;
+    message << "this wall takes the scene to about " << surfaces << " surfaces (at most "
+            << kMaxSurfaces << "): fewer or wider panes";
+    fail(join(wall_field, mullion_spacing > 0.0 ? "mullion_spacing" : "points"), message.str());
   }
 
   std::vector<Eigen::Vector2d> points(const YAML::Node& parent, const std::string& parent_field,
@@ -146,7 +192,7 @@ class Parser {
       const Material wall_material = material(wall, wall_field);
       const double default_frame = wall_material == Material::kDiffuse ? 0.0 : 0.05;
       const double frame = number(wall, wall_field, "frame", default_frame, 0.0, 1.0);
-      const double mullions = number(wall, wall_field, "mullion_spacing", 0.0, 0.0, 1000.0);
+      const double mullions = mullionSpacing(wall, wall_field, frame);
       SurfaceFinish finish;
       finish.dirt = number(wall, wall_field, "dirt", 0.0, 0.0, 1.0);
       finish.tilt = number(wall, wall_field, "tilt_deg", 0.0, -5.0, 5.0) * kDegToRad;
@@ -163,6 +209,8 @@ class Parser {
           if ((corners[k + 1] - corners[k]).norm() < 1e-6) {
             fail(index(join(wall_field, "points"), k + 1), "repeats the previous point");
           }
+          checkSurfaceCount(world, (corners[k + 1] - corners[k]).norm(), wall_material, mullions,
+                            wall_field);
           world.addFramedSegment(corners[k], corners[k + 1], wall_material, frame, mullions,
                                  finish);
         }
@@ -178,6 +226,8 @@ class Parser {
         if (end <= start || end - start > 360.0) {
           fail(join(wall_field, "end_deg"), "must satisfy start_deg < end_deg <= start_deg + 360");
         }
+        checkSurfaceCount(world, radius * (end - start) * kDegToRad, wall_material, mullions,
+                          wall_field);
         world.addFramedArc(center, radius, start * kDegToRad, end * kDegToRad, wall_material, frame,
                            mullions, finish);
       } else {

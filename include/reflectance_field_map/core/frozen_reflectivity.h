@@ -32,7 +32,8 @@ class FrozenReflectivity {
 
  private:
   static int64_t key(const CellIndex& cell) {
-    return (static_cast<int64_t>(cell.x()) << 32) | static_cast<uint32_t>(cell.y());
+    // x in the high word by a multiply: a left shift of a negative value is undefined.
+    return (static_cast<int64_t>(cell.x()) * (int64_t{1} << 32)) | static_cast<uint32_t>(cell.y());
   }
 
   std::unordered_map<int64_t, size_t> offsets_;  // cell -> its first mask word in masks_

@@ -49,7 +49,8 @@ class GlobalMap2D {
  private:
   using Tile = std::unique_ptr<CellClass[]>;
   static int64_t key(const TileIndex& tile) {
-    return (static_cast<int64_t>(tile.x()) << 32) ^ static_cast<uint32_t>(tile.y());
+    // x in the high word by a multiply: a left shift of a negative value is undefined.
+    return (static_cast<int64_t>(tile.x()) * (int64_t{1} << 32)) ^ static_cast<uint32_t>(tile.y());
   }
   TileIndex tileOf(const CellIndex& cell) const {
     return {floorDiv(cell.x(), tile_cells_), floorDiv(cell.y(), tile_cells_)};

@@ -20,6 +20,11 @@ namespace rfm {
 template <typename ClassOf>
 RayLabel labelEndpoint(const Ray& beam, const GridGeometry& geometry, double evidence_range,
                        bool final_map, ClassOf&& class_of) {
+  // An end past every cell index (a return claimed from 1e19 m) lies in no map: unjudged.
+  constexpr double kMaxCellIndex = 1 << 30;
+  if (!(beam.end.array().abs() * geometry.inverseResolution() < kMaxCellIndex).all()) {
+    return RayLabel::kKept;
+  }
   const CellIndex end_cell = geometry.cellOf(beam.end);
   bool motion = false;
   const CellClass c = class_of(end_cell);

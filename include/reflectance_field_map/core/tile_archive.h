@@ -47,7 +47,8 @@ class TileArchive {
 
  private:
   static int64_t key(const TileIndex& tile) {
-    return (static_cast<int64_t>(tile.x()) << 32) ^ static_cast<uint32_t>(tile.y());
+    // x in the high word by a multiply: a left shift of a negative value is undefined.
+    return (static_cast<int64_t>(tile.x()) * (int64_t{1} << 32)) ^ static_cast<uint32_t>(tile.y());
   }
   static TileIndex unkey(int64_t key) {
     return {static_cast<int>(key >> 32), static_cast<int>(static_cast<uint32_t>(key))};
