@@ -73,7 +73,7 @@ CellAnchoring AnchorRules::judge(const ReflectanceField& field, const AnchorHist
 
 bool AnchorHistory::seenFree(const ReflectanceField& field, int slot) {
   if (field.missedBinsAt(slot) == 0) return false;
-  const int confident = field.logOdds().minValue() / 2;
+  const int confident = field.confidentMissValue();
   for (int bin = 0; bin < field.geometry().thetaBins(); ++bin) {
     if (field.valueAt(slot, bin) <= confident) return true;
   }
@@ -94,7 +94,7 @@ int AnchorHistory::contradictedBinsAt(const ReflectanceField& field, int storage
   if (field.missedBinsAt(storage_index) == 0) return 0;  // nothing seen through it
   const auto it = departure_.find(storage_index);
   if (it == departure_.end()) return 0;
-  const int confidently_missed = field.logOdds().minValue() / 2;
+  const int confidently_missed = field.confidentMissValue();
   int count = 0;
   forEachMaskBit(it->second.bins.data(), mask_words_, [&](int bin) {
     count += field.valueAt(storage_index, bin) <= confidently_missed;
@@ -199,18 +199,8 @@ void AnchorHistory::tick(ReflectanceField& field, const AnchorRules& rules,
       // A tile with no hit and no mask change since the last tick was left as this tick would
       // leave it: hit flags clear, unreflective cells at 0 ticks, reflective ones held, histories
       // holding their masks. Unless every cell is remembered, reflective or not (min bins 0).
-      // Misses alone leave no record, so its unreflective cells may have been seen free since.
-      if (!field.takeTickPending(storage_tile) && remembered_min_bins > 0) {
-        for (size_t index = first; index < first + tile_slots; ++index) {
-          uint8_t& arrival = arrival_[index];
-          if (arrival == 0 && field.missedBinsAt(static_cast<int>(index)) > 0 &&
-              field.reflectiveBinsAt(static_cast<int>(index)) == 0 &&
-              seenFree(field, static_cast<int>(index))) {
-            arrival = kSeenFree;
-          }
-        }
-        continue;
-      }
+      // A bin becoming confidently missed marks its tile too: its cell may be seen free now.
+      if (!field.takeTickPending(storage_tile) && remembered_min_bins > 0) continue;
       if (remembered_min_bins > 0 && field.tileReflectiveCells(storage_tile) == 0) {
         // No cell of this tile is reflective: none is remembered or confirmed, so all that is
         // left to do is what the loop below does to unreflective cells.

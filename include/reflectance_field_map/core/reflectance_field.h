@@ -144,8 +144,13 @@ class ReflectanceField {
     int8_t& v = bins_[static_cast<size_t>(bin) * plane_ + storage_index];
     const int8_t old = v;
     v = log_odds_.miss(old);
+    if (v <= confidentMissValue() && old > confidentMissValue()) {
+      tick_pending_[storage_index >> window_.tileSlotShift()] = 1;
+    }
     applySummaryChange(storage_index, bin, old > 0 && v <= 0 ? -1 : 0, old >= 0 && v < 0);
   }
+  // A bin at or below this value is missed with at least half the clamp's confidence.
+  int confidentMissValue() const { return log_odds_.minValue() / 2; }
 
   // Inverse updates, to take back evidence found to come from beyond glass (online Alg. 3):
   // towards the prior, never past it.

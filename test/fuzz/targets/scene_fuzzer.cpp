@@ -14,7 +14,7 @@ namespace {
 
 class DiscardingSink : public rfm::sim::SimulationSink {
  public:
-  void onRobotState(double, const rfm::sim::RobotState&) override {}
+  void onRobotState(double, const rfm::sim::RobotState&, const rfm::sim::Pose2&) override {}
   void onScan(const rfm::sim::SimScan&, const rfm::sim::LidarSpec&) override {}
 };
 

@@ -36,6 +36,10 @@ class SliceWriter {
     const int old = v;
     const int updated = old + miss_step_ < min_ ? min_ : old + miss_step_;
     v = static_cast<int8_t>(updated);
+    // A bin becoming confidently missed: the cell may now be seen free (AnchorHistory::tick).
+    if (updated <= confident_miss_ && old > confident_miss_) {
+      relaxedStore(&tick_pending_[slot >> tile_slot_shift_], 1);
+    }
     // Only a bin in [0, -miss_step] reaches or crosses the prior on a miss: one test.
     if (static_cast<unsigned>(old) <= static_cast<unsigned>(-miss_step_)) {
       change(slot, old > 0 && updated <= 0 ? -1 : 0, old >= 0 && updated < 0);
@@ -68,7 +72,7 @@ class SliceWriter {
   uint16_t* missed_sums_;   // DeferredSummaries::missed, when deferred_ is set
   uint8_t* touched_tiles_;  // DeferredSummaries::touched, when deferred_ is set
   int tile_slot_shift_, part_mask_;
-  int bin_, hit_step_, miss_step_, min_, max_;
+  int bin_, hit_step_, miss_step_, min_, max_, confident_miss_;
 };
 
 }  // namespace detail
@@ -97,6 +101,7 @@ inline detail::SliceWriter ReflectanceField::sliceWriter(int bin, DeferredSummar
   w.miss_step_ = log_odds_.missStep();
   w.min_ = log_odds_.minValue();
   w.max_ = log_odds_.maxValue();
+  w.confident_miss_ = confidentMissValue();
   return w;
 }
 
