@@ -71,13 +71,9 @@ CellAnchoring AnchorRules::judge(const ReflectanceField& field, const AnchorHist
   return anchoring;
 }
 
-bool AnchorHistory::seenFree(const ReflectanceField& field, int slot) {
-  if (field.missedBinsAt(slot) == 0) return false;
-  const int confident = field.confidentMissValue();
-  for (int bin = 0; bin < field.geometry().thetaBins(); ++bin) {
-    if (field.valueAt(slot, bin) <= confident) return true;
-  }
-  return false;
+uint8_t AnchorHistory::seenFree(const ReflectanceField& field, int slot, uint8_t arrival) {
+  // Seen free once (a person who then left was seen free before arriving) stays seen free.
+  return arrival != 0 || field.confidentlyMissedSinceTick(slot) ? kSeenFree : 0;
 }
 
 int AnchorHistory::vacantTicksAt(int storage_index) const {
@@ -206,8 +202,8 @@ void AnchorHistory::tick(ReflectanceField& field, const AnchorRules& rules,
         // left to do is what the loop below does to unreflective cells.
         std::fill_n(&confirmed_ticks_[first], tile_slots, uint8_t{0});
         for (size_t index = first; index < first + tile_slots; ++index)
-          arrival_[index] = seenFree(field, static_cast<int>(index)) ? kSeenFree : 0;
-        field.clearHitsSinceTick(static_cast<int>(first), static_cast<int>(tile_slots));
+          arrival_[index] = seenFree(field, static_cast<int>(index), arrival_[index]);
+        field.clearSinceTick(static_cast<int>(first), static_cast<int>(tile_slots));
         continue;
       }
       for (size_t index = first; index < first + tile_slots; ++index) {
@@ -225,7 +221,7 @@ void AnchorHistory::tick(ReflectanceField& field, const AnchorRules& rules,
         // Reflective now after being seen free at the last tick: something arrived there.
         uint8_t& arrival = arrival_[index];
         if (!reflective) {
-          arrival = seenFree(field, slot) ? kSeenFree : 0;
+          arrival = seenFree(field, slot, arrival);
         } else if (arrival & kSeenFree) {
           arrival = kArrived;
         }
@@ -245,7 +241,7 @@ void AnchorHistory::tick(ReflectanceField& field, const AnchorRules& rules,
           }
         }
       }
-      field.clearHitsSinceTick(static_cast<int>(first), static_cast<int>(tile_slots));
+      field.clearSinceTick(static_cast<int>(first), static_cast<int>(tile_slots));
     }
   });
   for (const std::vector<int>& part : remembered) {

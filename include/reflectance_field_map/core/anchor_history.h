@@ -136,9 +136,9 @@ class AnchorHistory {
     std::vector<int8_t> at_tick;    // by bin: a certain bin's log-odds at the last tick
     uint8_t abandoned_ticks = 0;
   };
-  // Missed with at least half the clamp's confidence in some bin (and reflective in none: the
-  // caller asks only of such cells).
-  static bool seenFree(const ReflectanceField& field, int slot);
+  // The arrival state of a cell reflective in no bin: seen free once it got a bin missed with
+  // at least half the clamp's confidence (ReflectanceField::confidentlyMissedSinceTick).
+  static uint8_t seenFree(const ReflectanceField& field, int slot, uint8_t arrival);
   void addReflectiveBins(const ReflectanceField& field, size_t storage_index,
                          DepartureHistory& history) const;
   void addCertainBins(const ReflectanceField& field, size_t storage_index,

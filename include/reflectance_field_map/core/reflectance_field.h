@@ -145,6 +145,7 @@ class ReflectanceField {
     const int8_t old = v;
     v = log_odds_.miss(old);
     if (v <= confidentMissValue() && old > confidentMissValue()) {
+      confident_miss_since_tick_[storage_index] = 1;
       tick_pending_[storage_index >> window_.tileSlotShift()] = 1;
     }
     applySummaryChange(storage_index, bin, old > 0 && v <= 0 ? -1 : 0, old >= 0 && v < 0);
@@ -190,11 +191,16 @@ class ReflectanceField {
   }
 
   // What changed since the last persistence tick, for the anchor history (AnchorHistory::tick
-  // reads and clears it): the cells hit, and the storage tiles where a cell was hit or a mask
-  // changed. A tick changes nothing in the other tiles.
+  // reads and clears it): the cells hit, the cells with a bin newly missed with confidence
+  // (confidentMissValue), and the storage tiles where either happened or a mask changed. A tick
+  // changes nothing in the other tiles.
   bool hitSinceTick(int storage_index) const { return hit_since_tick_[storage_index] != 0; }
-  void clearHitsSinceTick(int first_slot, int count) {
+  bool confidentlyMissedSinceTick(int storage_index) const {
+    return confident_miss_since_tick_[storage_index] != 0;
+  }
+  void clearSinceTick(int first_slot, int count) {
     std::fill_n(&hit_since_tick_[first_slot], count, uint8_t{0});
+    std::fill_n(&confident_miss_since_tick_[first_slot], count, uint8_t{0});
   }
   // Whether the storage tile changed since the last tick; from now on it has not.
   bool takeTickPending(int storage_tile) {
@@ -267,6 +273,7 @@ class ReflectanceField {
   ZeroedHugeArray<uint64_t> reflective_masks_;  // [y][x][word]
   std::vector<uint16_t> missed_bins_;           // [y][x]
   std::vector<uint8_t> hit_since_tick_;         // [y][x]
+  std::vector<uint8_t> confident_miss_since_tick_;  // [y][x]
   std::vector<uint16_t> reflective_bins_;       // [y][x]
   std::vector<int> tile_reflective_cells_;      // per storage tile
   std::vector<uint32_t> tile_versions_;         // per storage tile

@@ -38,6 +38,7 @@ class SliceWriter {
     v = static_cast<int8_t>(updated);
     // A bin becoming confidently missed: the cell may now be seen free (AnchorHistory::tick).
     if (updated <= confident_miss_ && old > confident_miss_) {
+      relaxedStore(&confident_miss_flags_[slot], 1);
       relaxedStore(&tick_pending_[slot >> tile_slot_shift_], 1);
     }
     // Only a bin in [0, -miss_step] reaches or crosses the prior on a miss: one test.
@@ -66,6 +67,7 @@ class SliceWriter {
   }
   int8_t* bins_;
   uint8_t* hit_flags_;
+  uint8_t* confident_miss_flags_;
   uint8_t* tick_pending_;
   ReflectanceField* field_;
   std::vector<ReflectanceField::SummaryChange>* deferred_;  // DeferredSummaries::lists, or null
@@ -81,6 +83,7 @@ inline detail::SliceWriter ReflectanceField::sliceWriter(int bin, DeferredSummar
   detail::SliceWriter w;
   w.bins_ = &bins_[static_cast<size_t>(bin) * plane_];
   w.hit_flags_ = hit_since_tick_.data();
+  w.confident_miss_flags_ = confident_miss_since_tick_.data();
   w.tick_pending_ = tick_pending_.data();
   w.field_ = this;
   w.deferred_ = deferred ? deferred->lists.data() : nullptr;
