@@ -62,9 +62,8 @@ CellAnchoring AnchorRules::judge(const ReflectanceField& field, const AnchorHist
                          history.abandonedTicksAt(slot) >= departure_vacant_ticks;
   CellAnchoring anchoring;
   const bool solid_anchor = solid && !departed && !abandoned && !history.arrivedAt(slot);
-  anchoring.anchor = (widely_visible && !departed) ||
-                     (solid_anchor && solid_anchor_min_bins > 0 &&
-                      reflective_bins >= solid_anchor_min_bins);
+  anchoring.anchor = (widely_visible && !departed) || (solid_anchor && solid_anchor_min_bins > 0 &&
+                                                       reflective_bins >= solid_anchor_min_bins);
   anchoring.persistent = confirmed && !departed && !abandoned;
   anchoring.solid = solid;
   anchoring.solid_anchor = solid_anchor;
@@ -104,7 +103,8 @@ size_t AnchorHistory::bytes() const {
                        2 * sizeof(void*) + sizeof(void*);
   const size_t certainty_entry = mask_words_ * sizeof(uint64_t) + theta_bins_ * sizeof(int8_t) +
                                  sizeof(CertaintyHistory) + sizeof(int) + 3 * sizeof(void*);
-  return confirmed_ticks_.size() + arrival_.size() + departure_.size() * entry + certainty_.size() * certainty_entry;
+  return confirmed_ticks_.size() + arrival_.size() + departure_.size() * entry +
+         certainty_.size() * certainty_entry;
 }
 
 void AnchorHistory::clear() {

@@ -9,10 +9,10 @@
 #include "reflectance_field_map/core/scan_inserter.h"
 
 #include <chrono>
-#include <string>
 #include <istream>
 #include <optional>
 #include <ostream>
+#include <string>
 
 namespace rfm {
 namespace {

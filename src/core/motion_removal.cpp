@@ -400,8 +400,7 @@ MotionRemovalCounts MotionRemover::classify(
         int neighbours = 0;
         for (int dy = -1; dy <= 1; ++dy) {
           for (int dx = -1; dx <= 1; ++dx) {
-            if ((dx | dy) == 0 || x + dx < 0 || y + dy < 0 || x + dx >= width ||
-                y + dy >= height) {
+            if ((dx | dy) == 0 || x + dx < 0 || y + dy < 0 || x + dx >= width || y + dy >= height) {
               continue;
             }
             neighbours += classes[local + dy * width + dx] == CellClass::kStatic;

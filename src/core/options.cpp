@@ -4,8 +4,8 @@
 #include "reflectance_field_map/core/log_odds.h"
 
 #include <cmath>
-#include <type_traits>
 #include <sstream>
+#include <type_traits>
 
 namespace rfm {
 namespace {
@@ -117,10 +117,10 @@ const std::vector<OptionField>& optionFields() {
   static const std::vector<OptionField> fields = [] {
     std::vector<OptionField> out;
     const MapperOptions defaults;
-    MapperOptions::forEachParameter(defaults, [&](const char* name, const char* description,
-                                                  const auto& field) {
-      out.push_back({name, description, typeOf<std::decay_t<decltype(field)>>()});
-    });
+    MapperOptions::forEachParameter(
+        defaults, [&](const char* name, const char* description, const auto& field) {
+          out.push_back({name, description, typeOf<std::decay_t<decltype(field)>>()});
+        });
     return out;
   }();
   return fields;
@@ -146,12 +146,12 @@ bool setOption(MapperOptions& options, const std::string& name, double value) {
 double getOption(const MapperOptions& options, const std::string& name) {
   double value = 0.0;
   bool found = false;
-  MapperOptions::forEachParameter(options, [&](const char* field_name, const char*,
-                                               const auto& field) {
-    if (found || name != field_name) return;
-    found = true;
-    value = static_cast<double>(field);
-  });
+  MapperOptions::forEachParameter(options,
+                                  [&](const char* field_name, const char*, const auto& field) {
+                                    if (found || name != field_name) return;
+                                    found = true;
+                                    value = static_cast<double>(field);
+                                  });
   if (!found) throw std::invalid_argument("unknown option " + name);
   return value;
 }

@@ -28,11 +28,10 @@ struct PlainOccupancyGrid::Target {
 };
 
 PlainOccupancyGrid::PlainOccupancyGrid(const GridOptions& grid, const LogOddsOptions& log_odds,
-                                       const ActiveRegionOptions& region,
-                                       double window_radius)
+                                       const ActiveRegionOptions& region, double window_radius)
     : window_(grid.tile_cells,
-              activeWindowTiles(std::max(region.active_region_radius, window_radius), grid.resolution,
-                                grid.tile_cells)),
+              activeWindowTiles(std::max(region.active_region_radius, window_radius),
+                                grid.resolution, grid.tile_cells)),
       resolution_(grid.resolution),
       log_odds_(log_odds),
       cells_(static_cast<size_t>(window_.sizeCells()) * window_.sizeCells(), 0) {}

@@ -33,8 +33,8 @@ ReflectanceField::ReflectanceField(const GridOptions& grid, const LogOddsOptions
     : geometry_(grid.resolution, grid.theta_bins),
       log_odds_(log_odds),
       window_(grid.tile_cells,
-              activeWindowTiles(std::max(region.active_region_radius, window_radius), grid.resolution,
-                                grid.tile_cells)),
+              activeWindowTiles(std::max(region.active_region_radius, window_radius),
+                                grid.resolution, grid.tile_cells)),
       theta_bins_(grid.theta_bins),
       plane_(static_cast<size_t>(window_.sizeCells()) * window_.sizeCells()),
       mask_words_((grid.theta_bins + 63) / 64),
@@ -137,9 +137,9 @@ double ReflectanceField::reflectiveOddsAt(int storage_index) const {
 
 size_t ReflectanceField::activeBytes() const {
   return bins_.size() * sizeof(int8_t) + reflective_masks_.size() * sizeof(uint64_t) +
-         missed_bins_.size() * sizeof(uint16_t) + hit_since_tick_.size() + confident_miss_since_tick_.size() +
-         reflective_bins_.size() * sizeof(uint16_t) + tile_reflective_cells_.size() * sizeof(int) +
-         tile_versions_.size() * sizeof(uint32_t);
+         missed_bins_.size() * sizeof(uint16_t) + hit_since_tick_.size() +
+         confident_miss_since_tick_.size() + reflective_bins_.size() * sizeof(uint16_t) +
+         tile_reflective_cells_.size() * sizeof(int) + tile_versions_.size() * sizeof(uint32_t);
 }
 
 void ReflectanceField::clear() {

@@ -255,12 +255,16 @@ TEST(MotionRemover, SolidComponentsAreStructure) {
                                   f.classify({-8, 0}, anchors), f.classify({0, -8}, anchors)};
   };
   using C = CellClass;
-  EXPECT_EQ(classes_with(0.0, 0.5), (std::vector<C>{C::kMotion, C::kMotion, C::kMotion, C::kMotion}));
+  EXPECT_EQ(classes_with(0.0, 0.5),
+            (std::vector<C>{C::kMotion, C::kMotion, C::kMotion, C::kMotion}));
   // Solid cells of a structure are static; its seen-through cells are glass.
-  EXPECT_EQ(classes_with(2.0, 0.5), (std::vector<C>{C::kStatic, C::kStatic, C::kGlass, C::kMotion}));
-  EXPECT_EQ(classes_with(2.0, 0.6), (std::vector<C>{C::kStatic, C::kMotion, C::kMotion, C::kMotion}));
+  EXPECT_EQ(classes_with(2.0, 0.5),
+            (std::vector<C>{C::kStatic, C::kStatic, C::kGlass, C::kMotion}));
+  EXPECT_EQ(classes_with(2.0, 0.6),
+            (std::vector<C>{C::kStatic, C::kMotion, C::kMotion, C::kMotion}));
   // 10 missed bins for 3 reflective ones: solid only at a ratio of 10/3.
-  EXPECT_EQ(classes_with(3.4, 0.5), (std::vector<C>{C::kStatic, C::kStatic, C::kStatic, C::kStatic}));
+  EXPECT_EQ(classes_with(3.4, 0.5),
+            (std::vector<C>{C::kStatic, C::kStatic, C::kStatic, C::kStatic}));
 }
 
 // Something that arrived where the field had seen free space (a person who stopped, a door

@@ -80,8 +80,8 @@ void expectLayoutRejected(const std::string& field, const MapperLayout& layout) 
 }
 
 TEST(MapperLayout, BadWindowRadiusIsRejected) {
-  for (double radius : {-1.0, MapperLayout::kMaxWindowRadius + 1.0,
-                        std::numeric_limits<double>::quiet_NaN()}) {
+  for (double radius :
+       {-1.0, MapperLayout::kMaxWindowRadius + 1.0, std::numeric_limits<double>::quiet_NaN()}) {
     MapperLayout layout;
     layout.window_radius = radius;
     expectLayoutRejected("window_radius", layout);

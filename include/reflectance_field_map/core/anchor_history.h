@@ -20,8 +20,8 @@ class AnchorHistory;
 
 // What the rules make of one reflective cell.
 struct CellAnchoring {
-  bool anchor = false;  // widely visible, or solid over a wide angle, and still there: anchors,
-                        // and is drawn static
+  bool anchor = false;      // widely visible, or solid over a wide angle, and still there: anchors,
+                            // and is drawn static
   bool persistent = false;  // confirmed for long and still there (persistence_min_cells)
   bool solid = false;       // missed in few bins for its reflective ones (solid_max_missed_ratio)
   bool solid_anchor = false;  // solid, and neither departed nor arrived: counts towards the share
@@ -71,9 +71,7 @@ struct AnchorRules {
   static AnchorRules fromOptions(const MotionRemovalOptions& options, const GridGeometry& geometry,
                                  const OccupancyRule& rule, const LogOddsModel& model);
   // Component extents are needed only by the rules with a minimum length.
-  bool tracksExtents() const {
-    return persistence_min_cells > 0;
-  }
+  bool tracksExtents() const { return persistence_min_cells > 0; }
 
   // The rules applied to a reflective cell of `field` with `reflective_bins` bins,
   // `widely_visible` by eq. 7, and the history `history` kept of it.
@@ -146,7 +144,7 @@ class AnchorHistory {
 
   int mask_words_;
   int theta_bins_;
-  std::vector<uint8_t> confirmed_ticks_;                 // by storage index
+  std::vector<uint8_t> confirmed_ticks_;  // by storage index
   static constexpr uint8_t kSeenFree = 1, kArrived = 2;
   std::vector<uint8_t> arrival_;                         // by storage index: kSeenFree, kArrived
   std::unordered_map<int, DepartureHistory> departure_;  // by storage index

@@ -100,8 +100,8 @@ class MotionRemover {
   std::vector<int> slots_;                   // storage slot of each box cell
   std::vector<uint32_t> parent_;
   std::vector<uint8_t> rank_;
-  std::vector<uint8_t> anchored_;    // per root: touches a widely visible or known static cell
-  std::vector<uint8_t> persistent_;  // per root: holds a long-confirmed cell
+  std::vector<uint8_t> anchored_;     // per root: touches a widely visible or known static cell
+  std::vector<uint8_t> persistent_;   // per root: holds a long-confirmed cell
   std::vector<uint32_t> runs_in_;     // per root: its runs
   std::vector<uint32_t> solid_runs_;  // per root: its runs in solid cells that anchor
   struct Extent {
@@ -112,7 +112,6 @@ class MotionRemover {
   std::vector<uint8_t> widely_visible_;  // per box cell
   std::vector<uint8_t> solid_;           // per box cell (AnchorRules::solid_max_missed_ratio)
   std::vector<std::vector<size_t>> band_glass_;  // per band: its glass and metal cells
-
 
   // The box's tiles (of the field's window) and what classify does with each.
   int tile_cells_ = 1;

@@ -150,9 +150,10 @@ struct MotionRemovalOptions {
           self.persistence_time);
     visit("persistence_min_length", "persistent cells anchor components at least this long (m)",
           self.persistence_min_length);
-    visit("departure_min_angle",
-          "seen through over this much of its former reflective angle: anchors no more (rad, 0 off)",
-          self.departure_min_angle);
+    visit(
+        "departure_min_angle",
+        "seen through over this much of its former reflective angle: anchors no more (rad, 0 off)",
+        self.departure_min_angle);
     visit("departure_vacant_time",
           "seen through in new directions, never hit, this long: anchors no more (s, 0 off)",
           self.departure_vacant_time);

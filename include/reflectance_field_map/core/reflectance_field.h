@@ -269,14 +269,14 @@ class ReflectanceField {
   size_t plane_;  // cells in one theta slice of the window
   int mask_words_;
   bool centred_ = false;
-  ZeroedHugeArray<int8_t> bins_;                // [bin][y][x]
-  ZeroedHugeArray<uint64_t> reflective_masks_;  // [y][x][word]
-  std::vector<uint16_t> missed_bins_;           // [y][x]
-  std::vector<uint8_t> hit_since_tick_;         // [y][x]
+  ZeroedHugeArray<int8_t> bins_;                    // [bin][y][x]
+  ZeroedHugeArray<uint64_t> reflective_masks_;      // [y][x][word]
+  std::vector<uint16_t> missed_bins_;               // [y][x]
+  std::vector<uint8_t> hit_since_tick_;             // [y][x]
   std::vector<uint8_t> confident_miss_since_tick_;  // [y][x]
-  std::vector<uint16_t> reflective_bins_;       // [y][x]
-  std::vector<int> tile_reflective_cells_;      // per storage tile
-  std::vector<uint32_t> tile_versions_;         // per storage tile
+  std::vector<uint16_t> reflective_bins_;           // [y][x]
+  std::vector<int> tile_reflective_cells_;          // per storage tile
+  std::vector<uint32_t> tile_versions_;             // per storage tile
   // Per storage tile: a cell was hit, or a mask changed, since the last persistence tick. A tick
   // changes nothing in the other tiles (tickPersistence).
   std::vector<uint8_t> tick_pending_;

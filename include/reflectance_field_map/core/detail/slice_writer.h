@@ -35,9 +35,13 @@ class SliceWriter {
     int8_t& v = bins_[slot];
     const int old = v;
     const int updated = old + miss_step_ < min_ ? min_ : old + miss_step_;
-    v = static_cast<int8_t>(updated);
     // A bin becoming confidently missed: the cell may now be seen free (AnchorHistory::tick).
-    if (updated <= confident_miss_ && old > confident_miss_) {
+    // Tested before the store, which may alias the members: one range test, as below.
+    const bool newly_confident =
+        static_cast<unsigned>(old - confident_miss_ - 1) < static_cast<unsigned>(-miss_step_);
+    v = static_cast<int8_t>(updated);
+    // Stored once per cell and tick: the tile's flag is shared with the other writers' threads.
+    if (newly_confident && !relaxedLoad(&confident_miss_flags_[slot])) {
       relaxedStore(&confident_miss_flags_[slot], 1);
       relaxedStore(&tick_pending_[slot >> tile_slot_shift_], 1);
     }
