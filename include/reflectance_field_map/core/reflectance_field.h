@@ -277,8 +277,8 @@ class ReflectanceField {
   std::vector<uint16_t> reflective_bins_;           // [y][x]
   std::vector<int> tile_reflective_cells_;          // per storage tile
   std::vector<uint32_t> tile_versions_;             // per storage tile
-  // Per storage tile: a cell was hit, or a mask changed, since the last persistence tick. A tick
-  // changes nothing in the other tiles (tickPersistence).
+  // Per storage tile: a cell was hit, a bin became confidently missed, or a mask changed since
+  // the last persistence tick. A tick changes nothing in the other tiles (AnchorHistory::tick).
   std::vector<uint8_t> tick_pending_;
   // A new number for every field object, copies and assignments included.
   struct Identity {
