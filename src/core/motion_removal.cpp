@@ -192,7 +192,7 @@ void MotionRemover::joinBand(const ReflectanceField& field, const AnchorHistory&
       const CellAnchoring anchoring =
           anchors_.judge(field, history, slot, reflective, widelyVisible(field, slot, reflective));
       const bool anchor = anchoring.anchor, persistent = anchoring.persistent;
-      widely_visible_[local] = anchor;
+      anchor_cell_[local] = anchor;
       solid_[local] = anchoring.solid;
       for (uint32_t r = first; r < last; ++r) {
         const uint32_t root = find(r);
@@ -293,7 +293,7 @@ void MotionRemover::classifyBand(const ReflectanceField& field, const CellBox& b
           c = rule_.classify(reflective, field.missedBinsAt(slots_[local]));
           if (c != CellClass::kOccupied) {
             counts.free_cells += c == CellClass::kFree;
-          } else if (widely_visible_[local]) {
+          } else if (anchor_cell_[local]) {
             c = CellClass::kStatic;
             ++counts.static_cells;
           } else if (anchored && solid_[local]) {
@@ -366,7 +366,7 @@ MotionRemovalCounts MotionRemover::classify(
         extent_[r] = {col, row, col, row};
     }
   });
-  widely_visible_.assign(cells, 0);
+  anchor_cell_.assign(cells, 0);
   solid_.assign(cells, 0);
   // Each band unites only its own runs, so bands do not touch each other's trees.
   forEachBand([&](int p) { joinBand(field, history, box, bands[p], outside); });
@@ -388,33 +388,7 @@ MotionRemovalCounts MotionRemover::classify(
     classifyBand(field, box, bands[p], classes, band_counts[p], band_glass_[p]);
   });
   if (anchors_.glass_max_static_neighbours >= 0) {
-    // Glass is a thin surface with open space on both sides. A glassy cell lying against
-    // structure is that structure's surface, blurred (pose error, a rough wall): rays ending a
-    // cell deeper see through it near where it returns. Decided on the classes before any
-    // change, so demotions do not spread.
-    std::vector<size_t> demoted;
-    const int width = box.width(), height = box.height();
-    for (const std::vector<size_t>& glass : band_glass_) {
-      for (size_t local : glass) {
-        const int x = static_cast<int>(local % width), y = static_cast<int>(local / width);
-        int neighbours = 0;
-        for (int dy = -1; dy <= 1; ++dy) {
-          for (int dx = -1; dx <= 1; ++dx) {
-            if ((dx | dy) == 0 || x + dx < 0 || y + dy < 0 || x + dx >= width || y + dy >= height) {
-              continue;
-            }
-            neighbours += classes[local + dy * width + dx] == CellClass::kStatic;
-          }
-        }
-        if (neighbours > anchors_.glass_max_static_neighbours) demoted.push_back(local);
-      }
-    }
-    for (size_t local : demoted) {
-      MotionRemovalCounts& c = band_counts.front();
-      --(classes[local] == CellClass::kMetal ? c.metal_cells : c.glass_cells);
-      ++c.static_cells;
-      classes[local] = CellClass::kStatic;
-    }
+    demoteGlassAgainstStructure(box, classes, band_counts.front());
   }
   previous_field_ = field.identity();
   previous_box_ = box;
@@ -427,6 +401,36 @@ MotionRemovalCounts MotionRemover::classify(
     counts.free_cells += c.free_cells;
   }
   return counts;
+}
+
+// Glass is a thin surface with open space on both sides. A glassy cell lying against structure
+// is that structure's surface, blurred (pose error, a rough wall): rays ending a cell deeper see
+// through it near where it returns. Decided on the classes before any change, so demotions do
+// not spread.
+void MotionRemover::demoteGlassAgainstStructure(const CellBox& box, std::vector<CellClass>& classes,
+                                                MotionRemovalCounts& counts) const {
+  std::vector<size_t> demoted;
+  const int width = box.width(), height = box.height();
+  for (const std::vector<size_t>& glass : band_glass_) {
+    for (size_t local : glass) {
+      const int x = static_cast<int>(local % width), y = static_cast<int>(local / width);
+      int neighbours = 0;
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          if ((dx | dy) == 0 || x + dx < 0 || y + dy < 0 || x + dx >= width || y + dy >= height) {
+            continue;
+          }
+          neighbours += classes[local + dy * width + dx] == CellClass::kStatic;
+        }
+      }
+      if (neighbours > anchors_.glass_max_static_neighbours) demoted.push_back(local);
+    }
+  }
+  for (size_t local : demoted) {
+    --(classes[local] == CellClass::kMetal ? counts.metal_cells : counts.glass_cells);
+    ++counts.static_cells;
+    classes[local] = CellClass::kStatic;
+  }
 }
 
 }  // namespace rfm

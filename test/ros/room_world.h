@@ -5,6 +5,8 @@
 // switch: transforms late or missing, a lidar silent, the odometry jumped, the whole world paused.
 #pragma once
 
+#include "tf_messages.h"
+
 #include <ros/ros.h>
 #include <sensor_msgs/LaserScan.h>
 #include <tf2_msgs/TFMessage.h>
@@ -33,20 +35,6 @@ inline float roomRange(double ox, double oy, double angle) {
   if (dy > 1e-9) t = std::min(t, (kRoomHalfY - oy) / dy);
   if (dy < -1e-9) t = std::min(t, (-kRoomHalfY - oy) / dy);
   return static_cast<float>(t);
-}
-
-inline geometry_msgs::TransformStamped makeTransform(const std::string& parent,
-                                                     const std::string& child, double x, double y,
-                                                     double yaw, const ros::Time& stamp) {
-  geometry_msgs::TransformStamped t;
-  t.header.frame_id = parent;
-  t.header.stamp = stamp;
-  t.child_frame_id = child;
-  t.transform.translation.x = x;
-  t.transform.translation.y = y;
-  t.transform.rotation.z = std::sin(yaw / 2);
-  t.transform.rotation.w = std::cos(yaw / 2);
-  return t;
 }
 
 class RoomWorld {

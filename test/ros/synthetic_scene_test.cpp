@@ -17,6 +17,7 @@
 #include "reflectance_field_map/RayLabels.h"
 #include "reflectance_field_map/RfmStats.h"
 #include "reflectance_field_map/SaveMap.h"
+#include "tf_messages.h"
 
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
@@ -43,6 +44,7 @@
 
 namespace {
 
+using rfm_test::makeTransform;
 using rfm_test::MapCopy;
 using rfm_test::waitFor;
 
@@ -97,21 +99,6 @@ float castRay(double ox, double oy, double angle) {
   return std::numeric_limits<float>::infinity();
 }
 
-geometry_msgs::TransformStamped makeTransform(const std::string& parent, const std::string& child,
-                                              double x, double y, double yaw,
-                                              const ros::Time& stamp) {
-  geometry_msgs::TransformStamped t;
-  t.header.frame_id = parent;
-  t.header.stamp = stamp;
-  t.child_frame_id = child;
-  t.transform.translation.x = x;
-  t.transform.translation.y = y;
-  t.transform.translation.z = 0.3;
-  t.transform.rotation.z = std::sin(yaw / 2);
-  t.transform.rotation.w = std::cos(yaw / 2);
-  return t;
-}
-
 struct ScanRecord {
   sensor_msgs::LaserScan raw;
   sensor_msgs::LaserScanPtr filtered;
@@ -149,7 +136,7 @@ class Scenario {
   void publishStatic() {
     tf2_msgs::TFMessage msg;
     msg.transforms.push_back(
-        makeTransform("base_link", "laser_front", kLaserX, 0.0, 0.0, ros::Time::now()));
+        makeTransform("base_link", "laser_front", kLaserX, 0.0, 0.0, ros::Time::now(), 0.3));
     tf_static_pub_.publish(msg);
   }
 
@@ -157,7 +144,7 @@ class Scenario {
   void publishScan(double x, double y) {
     const ros::Time stamp = ros::Time::now();
     tf2_msgs::TFMessage tf;
-    tf.transforms.push_back(makeTransform("odom", "base_link", x, y, 0.0, stamp));
+    tf.transforms.push_back(makeTransform("odom", "base_link", x, y, 0.0, stamp, 0.3));
     tf_pub_.publish(tf);
     sensor_msgs::LaserScan scan;
     scan.header.stamp = stamp;

@@ -78,6 +78,10 @@ class MotionRemover {
   void classifyBand(const ReflectanceField& field, const CellBox& box, const Band& band,
                     std::vector<CellClass>& classes, MotionRemovalCounts& counts,
                     std::vector<size_t>& glass) const;
+  // glass_max_static_neighbours: glass and metal cells of band_glass_ against static ones become
+  // static.
+  void demoteGlassAgainstStructure(const CellBox& box, std::vector<CellClass>& classes,
+                                   MotionRemovalCounts& counts) const;
   // Whether the component of `root` spans at least `min_cells` (0: any size).
   bool spansAtLeast(uint32_t root, int min_cells) const;
 
@@ -107,10 +111,11 @@ class MotionRemover {
   struct Extent {
     int16_t min_x, min_y, max_x, max_y;  // box-local cells
   };
-  std::vector<Extent> extent_;           // per root: bounding box of its cells
-  std::vector<uint32_t> root_;           // final root of each run
-  std::vector<uint8_t> widely_visible_;  // per box cell
-  std::vector<uint8_t> solid_;           // per box cell (AnchorRules::solid_max_missed_ratio)
+  std::vector<Extent> extent_;  // per root: bounding box of its cells
+  std::vector<uint32_t> root_;  // final root of each run
+  std::vector<uint8_t>
+      anchor_cell_;             // per box cell: anchors (widely visible or solid), drawn static
+  std::vector<uint8_t> solid_;  // per box cell (AnchorRules::solid_max_missed_ratio)
   std::vector<std::vector<size_t>> band_glass_;  // per band: its glass and metal cells
 
   // The box's tiles (of the field's window) and what classify does with each.

@@ -4,6 +4,7 @@
 
 #include "reflectance_field_map/core/active_classes.h"
 #include "reflectance_field_map/core/cell_class.h"
+#include "reflectance_field_map/core/global_map.h"
 #include "reflectance_field_map/core/grid_geometry.h"
 #include "reflectance_field_map/core/laser_scan.h"
 #include "reflectance_field_map/core/reflection_removal.h"
@@ -20,9 +21,10 @@ namespace rfm {
 template <typename ClassOf>
 RayLabel labelEndpoint(const Ray& beam, const GridGeometry& geometry, double evidence_range,
                        bool final_map, ClassOf&& class_of) {
-  // An end past every cell index (a return claimed from 1e19 m) lies in no map: unjudged.
-  constexpr double kMaxCellIndex = 1 << 30;
-  if (!(beam.end.array().abs() * geometry.inverseResolution() < kMaxCellIndex).all()) {
+  // An end past every cell a map can hold (a return claimed from 1e19 m) lies in no map:
+  // unjudged.
+  const double limit = GlobalMap2D::kMaxCellCoordinate;
+  if (!(beam.end.array().abs() * geometry.inverseResolution() < limit).all()) {
     return RayLabel::kKept;
   }
   const CellIndex end_cell = geometry.cellOf(beam.end);

@@ -33,6 +33,13 @@ inline bool reflectiveNear(const uint64_t* mask, int bin, int bins) {
                   maskBit(mask, (bin + bins - 1) % bins));
 }
 
+// Whether a miss taking a bin from `old` (by `miss_step` < 0) makes it confidently missed: at or
+// below `confident` (ReflectanceField::confidentMissValue) for the first time. One range test:
+// the per-ray loop asks it of every miss.
+inline bool becomesConfidentlyMissed(int old, int confident, int miss_step) {
+  return static_cast<unsigned>(old - confident - 1) < static_cast<unsigned>(-miss_step);
+}
+
 // How many bits of a mask of `words` words are set.
 inline int countMaskBits(const uint64_t* mask, int words) {
   int count = 0;
@@ -144,7 +151,7 @@ class ReflectanceField {
     int8_t& v = bins_[static_cast<size_t>(bin) * plane_ + storage_index];
     const int8_t old = v;
     v = log_odds_.miss(old);
-    if (v <= confidentMissValue() && old > confidentMissValue()) {
+    if (becomesConfidentlyMissed(old, confidentMissValue(), log_odds_.missStep())) {
       confident_miss_since_tick_[storage_index] = 1;
       tick_pending_[storage_index >> window_.tileSlotShift()] = 1;
     }

@@ -36,9 +36,8 @@ class SliceWriter {
     const int old = v;
     const int updated = old + miss_step_ < min_ ? min_ : old + miss_step_;
     // A bin becoming confidently missed: the cell may now be seen free (AnchorHistory::tick).
-    // Tested before the store, which may alias the members: one range test, as below.
-    const bool newly_confident =
-        static_cast<unsigned>(old - confident_miss_ - 1) < static_cast<unsigned>(-miss_step_);
+    // Tested before the store, which may alias the members.
+    const bool newly_confident = becomesConfidentlyMissed(old, confident_miss_, miss_step_);
     v = static_cast<int8_t>(updated);
     // Stored once per cell and tick: the tile's flag is shared with the other writers' threads.
     if (newly_confident && !relaxedLoad(&confident_miss_flags_[slot])) {
