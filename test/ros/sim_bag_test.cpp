@@ -13,8 +13,10 @@
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
+#include <iostream>
 #include <mutex>
 #include <sstream>
 #include <string>
@@ -100,7 +102,14 @@ TEST(SimulatedBag, PaneOccupiedAndPedestrianPathFree) {
       nh.subscribe("/rfm/scan_front/labels", 500, &LabelCounter::onLabels, &labels),
       nh.subscribe("/rfm/scan_rear/labels", 500, &LabelCounter::onLabels, &labels)};
   spinner.start();
-  ASSERT_TRUE(waitFor([&] { return subs[2].getNumPublishers() > 0; }, 30.0))
+  // Every subscription connected before the bag plays: the node labels a topic's scans only
+  // while someone listens to its labels, so a late connection would lose the first seconds.
+  ASSERT_TRUE(waitFor(
+      [&] {
+        return std::all_of(subs.begin(), subs.end(),
+                           [](const ros::Subscriber& sub) { return sub.getNumPublishers() > 0; });
+      },
+      30.0))
       << "rfm node did not come up";
 
   const pid_t player = playBag(bag);
@@ -133,6 +142,7 @@ TEST(SimulatedBag, PaneOccupiedAndPedestrianPathFree) {
   // simulator's truth has 19372 of them; the node, judging each scan against the map so far,
   // labels 6.0 k: where the pedestrian stands is solid until the robot sees through it, so only
   // the trail they left is motion by the next motion removal).
+  std::cout << "labels: " << labels.scans() << " scans, " << labels.motion() << " MOTION beams\n";
   EXPECT_GT(labels.scans(), 1000);
   EXPECT_GT(labels.motion(), 3000) << "MOTION labels over " << labels.scans() << " scans";
 
