@@ -394,14 +394,18 @@ void MapperRos::publishFullMapLocked() {
   const auto start = std::chrono::steady_clock::now();
   const rfm::GlobalMap2D& map = mapper_->map();
   const rfm::CellBox box = map.bounds();
-  map_pub_.publish(toOccupancyGrid(map, box, params_.mapper.grid.resolution, params_.fixed_frame,
-                                   ros::Time::now()));
+  const nav_msgs::OccupancyGrid grid = toOccupancyGrid(map, box, params_.mapper.grid.resolution,
+                                                       params_.fixed_frame, ros::Time::now());
+  map_tally_.cells += grid.data.size();
+  map_pub_.publish(grid);
   // The full map carries every change so far.
   mapper_->takeMapChanges();
   published_box_ = box;
   map_published_ = true;
   map_changed_ = false;
   last_publish_ms_ = elapsedMs(start);
+  ++map_tally_.full_maps;
+  map_tally_.ms += last_publish_ms_;
 }
 
 void MapperRos::publishMapUpdateLocked() {
@@ -417,9 +421,13 @@ void MapperRos::publishMapUpdateLocked() {
   const rfm::CellBox changed = mapper_->takeMapChanges().intersect(published_box_);
   if (changed.empty()) return;
   const auto start = std::chrono::steady_clock::now();
-  map_update_pub_.publish(
-      toOccupancyGridUpdate(map, changed, published_box_, params_.fixed_frame, ros::Time::now()));
+  const map_msgs::OccupancyGridUpdate update =
+      toOccupancyGridUpdate(map, changed, published_box_, params_.fixed_frame, ros::Time::now());
+  map_tally_.cells += update.data.size();
+  map_update_pub_.publish(update);
   last_publish_ms_ = elapsedMs(start);
+  ++map_tally_.updates;
+  map_tally_.ms += last_publish_ms_;
 }
 
 void MapperRos::publishMarkersLocked() {
@@ -458,6 +466,10 @@ void MapperRos::statsTimer(const ros::TimerEvent&) {
     msg.field_bytes = stats.field_bytes;
     msg.archived_bytes = stats.archived_bytes;
     msg.publish_ms = last_publish_ms_;
+    msg.full_maps_published = map_tally_.full_maps;
+    msg.map_updates_published = map_tally_.updates;
+    msg.map_cells_published = map_tally_.cells;
+    msg.map_publish_ms_total = map_tally_.ms;
   }
   msg.header.stamp = ros::Time::now();
   msg.header.frame_id = params_.fixed_frame;

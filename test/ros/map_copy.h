@@ -31,10 +31,18 @@ struct MapCopy {
   ros::Time last_full;    // header stamp of the last full map
   ros::Time last_change;  // header stamp of the last full map or update
   int full_maps = 0;
+  int full_maps_same_bounds = 0;  // full maps whose geometry equals the one before
   int updates = 0;
 
   void onMap(const nav_msgs::OccupancyGridConstPtr& msg) {
     std::lock_guard<std::mutex> lock(mutex);
+    const nav_msgs::MapMetaData& before = grid.info;
+    const nav_msgs::MapMetaData& now = msg->info;
+    if (full_maps > 0 && now.width == before.width && now.height == before.height &&
+        now.origin.position.x == before.origin.position.x &&
+        now.origin.position.y == before.origin.position.y) {
+      ++full_maps_same_bounds;
+    }
     grid = *msg;
     last_full = msg->header.stamp;
     last_change = std::max(last_change, msg->header.stamp);

@@ -142,6 +142,12 @@ TEST(SimulatedBag, PaneOccupiedAndPedestrianPathFree) {
   // simulator's truth has 19372 of them; the node, judging each scan against the map so far,
   // labels 6.0 k: where the pedestrian stands is solid until the robot sees through it, so only
   // the trail they left is motion by the next motion removal).
+  // Between full maps only the changed windows travel: within the scene's 18 s, shorter than the
+  // 30 s republishing period, a full map goes out only when the map's bounds grew.
+  std::cout << "map: " << map.full_maps << " full, " << map.updates << " updates\n";
+  EXPECT_EQ(map.full_maps_same_bounds, 0) << "full maps sent though the bounds stayed";
+  EXPECT_GT(map.updates, map.full_maps);
+
   std::cout << "labels: " << labels.scans() << " scans, " << labels.motion() << " MOTION beams\n";
   EXPECT_GT(labels.scans(), 1000);
   EXPECT_GT(labels.motion(), 3000) << "MOTION labels over " << labels.scans() << " scans";

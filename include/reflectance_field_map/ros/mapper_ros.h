@@ -145,6 +145,14 @@ class MapperRos {
   bool map_changed_ = true;      // since the last full map
   bool markers_changed_ = true;  // since the last markers
   double last_publish_ms_ = 0.0;
+  // What /rfm/map and /rfm/map_updates cost so far (cells sent, time spent flattening and
+  // publishing), reported on /rfm/stats.
+  struct MapPublishTally {
+    uint64_t full_maps = 0;
+    uint64_t updates = 0;
+    uint64_t cells = 0;
+    double ms = 0.0;
+  } map_tally_;
 
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;

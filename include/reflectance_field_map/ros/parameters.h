@@ -16,7 +16,7 @@ struct RosParameters {
   std::vector<std::string> scan_topics{"/scan_front", "/scan_rear"};
   std::string fixed_frame = "odom";      // REP-105 frame the map is built in
   std::string base_frame = "base_link";  // robot frame: centre of the active region
-  double map_publish_rate = 1.0;         // Hz, full /rfm/map
+  double map_publish_rate = 0.0333;      // Hz (every 30 s), full /rfm/map when changed
   double marker_publish_rate = 1.0;      // Hz, /rfm/*_markers; 0 disables
   double stats_publish_rate = 1.0;       // Hz, /rfm/stats
   double tf_tolerance = 0.0;             // s, TF must reach stamp + tolerance before a scan is used
