@@ -129,8 +129,8 @@ void readTf(const rosbag::MessageInstance& message, BagStretch& out) {
   }
   const bool is_static = message.getTopic() == "/tf_static";
   for (geometry_msgs::TransformStamped& transform : tf_message.transforms) {
-    transform.header.frame_id = normalizedFrame(transform.header.frame_id);
-    transform.child_frame_id = normalizedFrame(transform.child_frame_id);
+    transform.header.frame_id = ros_glue::tf2FrameId(transform.header.frame_id);
+    transform.child_frame_id = ros_glue::tf2FrameId(transform.child_frame_id);
     out.transforms.emplace_back(std::move(transform), is_static);
   }
   ++out.tf_messages;
@@ -153,7 +153,7 @@ void readScan(const rosbag::MessageInstance& message, uint32_t topic, BagStretch
   source.seq = msg.header.seq;
   source.stamp = msg.header.stamp;
   source.bag_time = message.getTime();
-  source.frame_id = normalizedFrame(msg.header.frame_id);
+  source.frame_id = ros_glue::tf2FrameId(msg.header.frame_id);
   if (source.stamp.isZero()) {
     source.stamp = source.bag_time;  // unstamped driver: the recording time is all we have
     out.zero_stamps = true;
@@ -190,13 +190,6 @@ void readStretch(rosbag::View& view, const std::map<std::string, uint32_t>& topi
 }
 
 }  // namespace
-
-std::string normalizedFrame(const std::string& frame) {
-  size_t start = 0;
-  while (start < frame.size() && frame[start] == '/')
-    ++start;
-  return frame.substr(start);
-}
 
 uint64_t BagScans::scansRead() const {
   return std::accumulate(read_per_topic.begin(), read_per_topic.end(), uint64_t{0});
@@ -242,8 +235,8 @@ BagScans readBagScans(const BagInputOptions& options,
   }
 
   BagScans result;
-  const std::string fixed_frame = normalizedFrame(options.fixed_frame);
-  const std::string base_frame = normalizedFrame(options.base_frame);
+  const std::string fixed_frame = ros_glue::tf2FrameId(options.fixed_frame);
+  const std::string base_frame = ros_glue::tf2FrameId(options.base_frame);
 
   // Topics in the bag.
   std::map<std::string, std::string> types;

@@ -8,6 +8,11 @@
 
 namespace rfm::ros_glue {
 
+std::string tf2FrameId(const std::string& frame) {
+  const size_t start = frame.find_first_not_of('/');
+  return start == std::string::npos ? std::string() : frame.substr(start);
+}
+
 double yawFromQuaternion(const geometry_msgs::Quaternion& q) {
   // w^2 + x^2 - y^2 - z^2 rather than 1 - 2 (y^2 + z^2): both terms scale with the norm, so
   // their angle holds for a quaternion that is not normalised.

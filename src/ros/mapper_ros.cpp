@@ -212,7 +212,7 @@ void MapperRos::releaseWaiting(ScanInput& input) {
   const ros::Duration tolerance(params_.tf_tolerance);
   while (!input.waiting.empty()) {
     const sensor_msgs::LaserScanConstPtr msg = input.waiting.front();
-    const std::string frame = normalizeFrame(msg->header.frame_id);
+    const std::string frame = tf2FrameId(msg->header.frame_id);
     const ros::Time stamp = msg->header.stamp;
     std::string error;
     const bool ready =
@@ -240,7 +240,7 @@ void MapperRos::tfFailure(ScanInput& input, const sensor_msgs::LaserScanConstPtr
                           TfFailure reason) {
   dropScan(input, input.tf_failures, tf_failures_);
   if (reason == TfFailure::kQueueOverflow) ++queue_overflows_;
-  const std::string frame = normalizeFrame(msg->header.frame_id);
+  const std::string frame = tf2FrameId(msg->header.frame_id);
   // _frameExists is thread-safe (it locks the buffer).
   const bool known = !frame.empty() && tf_buffer_->_frameExists(frame);
   std::ostringstream text;
@@ -264,7 +264,7 @@ void MapperRos::tfFailure(ScanInput& input, const sensor_msgs::LaserScanConstPtr
 }
 
 void MapperRos::processScan(ScanInput& input, const sensor_msgs::LaserScanConstPtr& msg) {
-  const std::string laser_frame = normalizeFrame(msg->header.frame_id);
+  const std::string laser_frame = tf2FrameId(msg->header.frame_id);
   geometry_msgs::TransformStamped sensor_tf, robot_tf;
   try {
     sensor_tf = tf_buffer_->lookupTransform(params_.fixed_frame, laser_frame, msg->header.stamp);

@@ -1,5 +1,7 @@
 #include "reflectance_field_map/ros/parameters.h"
 
+#include "reflectance_field_map/ros/conversions.h"
+
 #include <xmlrpcpp/XmlRpcValue.h>
 
 #include <algorithm>
@@ -127,13 +129,6 @@ std::string topicLeaf(const std::string& topic) {
   return slash == std::string::npos ? trimmed : trimmed.substr(slash + 1);
 }
 
-std::string normalizeFrame(const std::string& frame) {
-  size_t start = 0;
-  while (start < frame.size() && frame[start] == '/')
-    ++start;
-  return frame.substr(start);
-}
-
 void RosParameters::validate() const {
   if (scan_topics.empty()) {
     throw rfm::InvalidOption("scan_topics", "[]", "a non-empty list of topic names");
@@ -150,10 +145,10 @@ void RosParameters::validate() const {
           "topics whose last components differ (they name /rfm/<last>/filtered)");
     }
   }
-  if (normalizeFrame(fixed_frame).empty()) {
+  if (tf2FrameId(fixed_frame).empty()) {
     throw rfm::InvalidOption("fixed_frame", "\"" + fixed_frame + "\"", "a frame id");
   }
-  if (normalizeFrame(base_frame).empty()) {
+  if (tf2FrameId(base_frame).empty()) {
     throw rfm::InvalidOption("base_frame", "\"" + base_frame + "\"", "a frame id");
   }
   requireRange("map_publish_rate", map_publish_rate, 0.0, 100.0, true);
@@ -213,8 +208,8 @@ RosParameters readParameters(const ros::NodeHandle& private_nh) {
     }
     rfm::setOption(params.mapper, field.name, value);
   }
-  params.fixed_frame = normalizeFrame(params.fixed_frame);
-  params.base_frame = normalizeFrame(params.base_frame);
+  params.fixed_frame = tf2FrameId(params.fixed_frame);
+  params.base_frame = tf2FrameId(params.base_frame);
   params.validate();
   return params;
 }

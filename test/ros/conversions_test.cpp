@@ -66,6 +66,14 @@ Eigen::Vector2d coreEnd(const rfm::LaserScan2D& scan, const rfm::Pose2D& pose, s
 
 // ---- TF -> planar poses ---------------------------------------------------------------------
 
+TEST(Conversions, FrameIdsLoseTheirLeadingSlashes) {
+  EXPECT_EQ(tf2FrameId("/odom"), "odom");
+  EXPECT_EQ(tf2FrameId("//robot/laser"), "robot/laser");
+  EXPECT_EQ(tf2FrameId("base_link"), "base_link");
+  EXPECT_EQ(tf2FrameId("/"), "");
+  EXPECT_EQ(tf2FrameId(""), "");
+}
+
 TEST(Conversions, YawOfAQuaternionNeedNotBeNormalised) {
   for (const double yaw : {0.0, 0.3, -1.2, 2.9, -3.1}) {
     const Eigen::Quaterniond q = yawRollPitch(yaw, 0.0);

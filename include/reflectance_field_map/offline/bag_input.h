@@ -81,8 +81,5 @@ struct BagScans {
 BagScans readBagScans(const BagInputOptions& options,
                       const std::function<void(size_t, size_t)>& progress = {});
 
-// A tf2 frame id as tf2 wants it (no leading '/').
-std::string normalizedFrame(const std::string& frame);
-
 }  // namespace offline
 }  // namespace rfm

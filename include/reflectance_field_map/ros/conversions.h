@@ -20,6 +20,9 @@
 // Free conversion functions between ROS messages and the ROS-free core types.
 namespace rfm::ros_glue {
 
+// A frame id as tf2 takes it: without leading slashes ("/odom" -> "odom").
+std::string tf2FrameId(const std::string& frame);
+
 // Yaw (rotation about z, REP-103) of a quaternion; the quaternion need not be normalised.
 double yawFromQuaternion(const geometry_msgs::Quaternion& q);
 

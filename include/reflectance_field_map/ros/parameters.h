@@ -47,7 +47,4 @@ std::vector<std::string> unknownParameters(const ros::NodeHandle& private_nh);
 // Last component of a topic name: "/robot/scan_front" -> "scan_front".
 std::string topicLeaf(const std::string& topic);
 
-// Frame id without a leading slash (tf2 rejects it).
-std::string normalizeFrame(const std::string& frame);
-
 }  // namespace rfm::ros_glue
