@@ -305,6 +305,10 @@ std::vector<RayLabel> Mapper::labelScan(const TimedScan& scan, bool final_map) c
   if (!scan.scan.validate().empty()) {
     return std::vector<RayLabel>(scan.scan.ranges.size(), RayLabel::kNoReturn);
   }
+  return labelValidScan(scan, final_map);
+}
+
+std::vector<RayLabel> Mapper::labelValidScan(const TimedScan& scan, bool final_map) const {
   std::vector<Ray> rays;
   scanToRays(scan.scan, scan.sensor_pose, options_.insertion, rays);
   return labelRays(rays, scan.scan.ranges.size(), impl_->reflections, impl_->classes,
@@ -314,7 +318,8 @@ std::vector<RayLabel> Mapper::labelScan(const TimedScan& scan, bool final_map) c
 
 std::vector<RayLabel> Mapper::labelAddedScan(const TimedScan& scan,
                                              const ScanUpdate& update) const {
-  std::vector<RayLabel> labels = labelScan(scan);
+  if (!update.error.empty()) return update.labels;  // addScan refused it: every beam NO_RETURN
+  std::vector<RayLabel> labels = labelValidScan(scan, false);
   for (size_t i = 0; i < labels.size() && i < update.labels.size(); ++i) {
     if (update.labels[i] == RayLabel::kReflection) labels[i] = RayLabel::kReflection;
   }

@@ -182,11 +182,12 @@ void MapperRos::incomingScan(ScanInput& input, const sensor_msgs::LaserScanConst
                       static_cast<unsigned long long>(stale_scans_.load()));
     return;
   }
-  const std::string problem = toLaserScan2D(*msg).validate();
+  ArrivedScan arrived{msg, toLaserScan2D(*msg)};
+  const std::string problem = arrived.scan.validate();
   if (problem.empty() && !msg->header.frame_id.empty()) {
-    input.waiting.push_back(msg);
+    input.waiting.push_back(std::move(arrived));
     if (input.waiting.size() > static_cast<size_t>(params_.tf_queue_size)) {
-      const sensor_msgs::LaserScanConstPtr oldest = input.waiting.front();
+      const sensor_msgs::LaserScanConstPtr oldest = input.waiting.front().msg;
       input.waiting.pop_front();
       tfFailure(input, oldest, TfFailure::kQueueOverflow);
     }
@@ -211,7 +212,7 @@ void MapperRos::releaseWaiting(ScanInput& input) {
   // buffer is asked directly instead, in order, each time.
   const ros::Duration tolerance(params_.tf_tolerance);
   while (!input.waiting.empty()) {
-    const sensor_msgs::LaserScanConstPtr msg = input.waiting.front();
+    const sensor_msgs::LaserScanConstPtr msg = input.waiting.front().msg;
     const std::string frame = tf2FrameId(msg->header.frame_id);
     const ros::Time stamp = msg->header.stamp;
     std::string error;
@@ -222,9 +223,10 @@ void MapperRos::releaseWaiting(ScanInput& input) {
         tf_buffer_->canTransform(params_.fixed_frame, frame, stamp, &error) &&
         tf_buffer_->canTransform(params_.fixed_frame, params_.base_frame, stamp, &error);
     if (!ready && !olderThanBuffer(error)) return;  // its transform may still come
+    ArrivedScan arrived = std::move(input.waiting.front());
     input.waiting.pop_front();
     if (ready) {
-      processScan(input, msg);
+      processScan(input, std::move(arrived));
     } else {
       tfFailure(input, msg, TfFailure::kOlderThanBuffer);
     }
@@ -263,7 +265,8 @@ void MapperRos::tfFailure(ScanInput& input, const sensor_msgs::LaserScanConstPtr
                     static_cast<unsigned long long>(tf_failures_.load()), text.str().c_str());
 }
 
-void MapperRos::processScan(ScanInput& input, const sensor_msgs::LaserScanConstPtr& msg) {
+void MapperRos::processScan(ScanInput& input, ArrivedScan arrived) {
+  const sensor_msgs::LaserScanConstPtr& msg = arrived.msg;
   const std::string laser_frame = tf2FrameId(msg->header.frame_id);
   geometry_msgs::TransformStamped sensor_tf, robot_tf;
   try {
@@ -283,7 +286,8 @@ void MapperRos::processScan(ScanInput& input, const sensor_msgs::LaserScanConstP
   rfm::TimedScan timed;
   timed.sensor_id = input.id;
   timed.stamp = msg->header.stamp.toSec();
-  timed.scan = toLaserScan2D(*msg, sensor.upside_down);
+  timed.scan = std::move(arrived.scan);
+  if (sensor.upside_down) rfm::mirrorScan(timed.scan);
   timed.sensor_pose = sensor.pose;
   timed.robot_pose = toPose2D(robot_tf.transform);
 

@@ -165,6 +165,8 @@ class Mapper {
   void writeRegionToMap();
   // What reset() and load() start afresh besides the field and the map.
   void forgetDerivedState();
+  // labelScan of a scan already validated.
+  std::vector<RayLabel> labelValidScan(const TimedScan& scan, bool final_map) const;
 
   MapperOptions options_;
   ReflectanceField field_;

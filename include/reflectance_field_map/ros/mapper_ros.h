@@ -62,6 +62,12 @@ class MapperRos {
     kQueueOverflow,    // tf_queue_size newer scans arrived before its transform did
   };
 
+  // A scan as it arrived and as the core takes it, converted and validated once, on arrival.
+  struct ArrivedScan {
+    sensor_msgs::LaserScanConstPtr msg;
+    rfm::LaserScan2D scan;  // in the message's beam order (mirrored once TF says upside down)
+  };
+
   struct ScanInput {
     uint32_t id = 0;
     std::string topic;  // as configured (absolute or relative to the node's namespace)
@@ -69,7 +75,7 @@ class MapperRos {
     ros::Subscriber subscriber;
     // Valid scans waiting, in order, until TF reaches their stamp (at most tf_queue_size). Only
     // the node's callback thread touches it.
-    std::deque<sensor_msgs::LaserScanConstPtr> waiting;
+    std::deque<ArrivedScan> waiting;
     ros::Publisher filtered_pub;
     ros::Publisher labels_pub;
     double min_rate = 0.0, max_rate = 0.0;
@@ -90,7 +96,7 @@ class MapperRos {
   // timer); a scan given up on goes to tfFailure.
   void incomingScan(ScanInput& input, const sensor_msgs::LaserScanConstPtr& msg);
   void releaseWaiting(ScanInput& input);
-  void processScan(ScanInput& input, const sensor_msgs::LaserScanConstPtr& msg);
+  void processScan(ScanInput& input, ArrivedScan arrived);
   void tfFailure(ScanInput& input, const sensor_msgs::LaserScanConstPtr& msg, TfFailure reason);
 
   void motionRemovalTimer(const ros::TimerEvent& event);
