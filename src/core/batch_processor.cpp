@@ -163,9 +163,11 @@ std::vector<const TimedScan*> everyNthScanOfEachSensor(const std::vector<TimedSc
 }
 
 BatchResult processBatch(const std::vector<TimedScan>& scans, const MapperOptions& requested,
-                         BatchMode mode, const std::function<void(size_t, size_t)>& progress,
+                         const BatchOptions& batch, BatchMode mode,
+                         const std::function<void(size_t, size_t)>& progress,
                          const std::function<void(const ReflectanceField&)>& inspect_field) {
   requested.validate();
+  batch.validate();
   const Extent extent = recordingExtent(scans, requested);
   if (extent.half_side + requested.grid.resolution > MapperLayout::kMaxWindowRadius) {
     throw std::invalid_argument(
@@ -179,8 +181,8 @@ BatchResult processBatch(const std::vector<TimedScan>& scans, const MapperOption
   // The mode switches stages off; it never switches on one the options disabled.
   options.motion_removal.motion_removal_enabled &= mode != BatchMode::kBasicRfm;
   options.reflection_removal.reflection_removal_enabled &= mode == BatchMode::kFull;
-  options.reflection_removal.scan_buffer_size = 0;        // batch re-processes every scan instead
-  options.occupancy.beta = options.occupancy.batch_beta;  // classifies the whole recording seen
+  options.reflection_removal.scan_buffer_size = 0;  // batch re-processes every scan instead
+  options.occupancy.beta = batch.batch_beta;        // classifies the whole recording seen
   MapperLayout layout;
   layout.window_radius = extent.half_side + options.grid.resolution;
   layout.clearance_block_shift = 0;  // rebuilt once per pass only
@@ -190,12 +192,12 @@ BatchResult processBatch(const std::vector<TimedScan>& scans, const MapperOption
   BatchResult result;
   const ReflectionRemovalOptions& reflection = options.reflection_removal;
   const int passes = mode == BatchMode::kFull && reflection.reflection_removal_enabled
-                         ? reflection.max_reflection_iterations + 1
+                         ? batch.max_reflection_iterations + 1
                          : 1;
   // Passes before the last only find glass for the next one's cuts: they take fewer scans.
   auto stride_of = [&](int pass) {
     if (pass + 1 == passes) return 1;
-    return pass == 0 ? reflection.first_pass_scan_stride : reflection.search_pass_scan_stride;
+    return pass == 0 ? batch.first_pass_scan_stride : batch.search_pass_scan_stride;
   };
   // Each pass's scans, by pointer: the recording is not copied.
   std::vector<std::vector<const TimedScan*>> scans_by_pass(passes);

@@ -57,7 +57,6 @@ void OccupancyOptions::validate() const {
   requireRange("alpha", alpha, 0.0, kTwoPi);
   // Unobserved bins have odds 1, so any cell sums to about 2*pi: beta must lie above that.
   requireRange("beta", beta, kTwoPi, 10000.0, true);
-  requireRange("batch_beta", batch_beta, kTwoPi, 10000.0, true);
   requireRange("metal_min_angle", metal_min_angle, 0.0, kTwoPi);
 }
 
@@ -75,12 +74,16 @@ void MotionRemovalOptions::validate() const {
 
 void ReflectionRemovalOptions::validate() const {
   requireRange("penetration_tolerance", penetration_tolerance, 0.0, 5.0);
-  requireRange("max_reflection_iterations", max_reflection_iterations, 1, 100);
-  requireRange("first_pass_scan_stride", first_pass_scan_stride, 1, 1000);
-  requireRange("search_pass_scan_stride", search_pass_scan_stride, 1, 1000);
   requireRange("glass_completion_max_gap", glass_completion_max_gap, 0.0, 20.0);
   requireRange("scan_buffer_size", scan_buffer_size, 0, 100000);
   requireRange("static_blocking_min_angle", static_blocking_min_angle, 0.0, kTwoPi);
+}
+
+void BatchOptions::validate() const {
+  requireRange("batch_beta", batch_beta, kTwoPi, 10000.0, true);
+  requireRange("max_reflection_iterations", max_reflection_iterations, 1, 100);
+  requireRange("first_pass_scan_stride", first_pass_scan_stride, 1, 1000);
+  requireRange("search_pass_scan_stride", search_pass_scan_stride, 1, 1000);
 }
 
 void MapperOptions::validate() const {
@@ -111,24 +114,21 @@ constexpr OptionField::Type typeOf() {
   }
 }
 
-}  // namespace
-
-const std::vector<OptionField>& optionFields() {
-  static const std::vector<OptionField> fields = [] {
-    std::vector<OptionField> out;
-    const MapperOptions defaults;
-    MapperOptions::forEachParameter(
-        defaults, [&](const char* name, const char* description, const auto& field) {
-          out.push_back({name, description, typeOf<std::decay_t<decltype(field)>>()});
-        });
-    return out;
-  }();
-  return fields;
+template <typename Options>
+std::vector<OptionField> fieldsOf() {
+  std::vector<OptionField> out;
+  const Options defaults;
+  Options::forEachParameter(
+      defaults, [&](const char* name, const char* description, const auto& field) {
+        out.push_back({name, description, typeOf<std::decay_t<decltype(field)>>()});
+      });
+  return out;
 }
 
-bool setOption(MapperOptions& options, const std::string& name, double value) {
+template <typename Options>
+bool setField(Options& options, const std::string& name, double value) {
   bool found = false;
-  MapperOptions::forEachParameter(options, [&](const char* field_name, const char*, auto& field) {
+  Options::forEachParameter(options, [&](const char* field_name, const char*, auto& field) {
     if (found || name != field_name) return;
     found = true;
     using T = std::decay_t<decltype(field)>;
@@ -143,17 +143,45 @@ bool setOption(MapperOptions& options, const std::string& name, double value) {
   return found;
 }
 
-double getOption(const MapperOptions& options, const std::string& name) {
+template <typename Options>
+double getField(const Options& options, const std::string& name) {
   double value = 0.0;
   bool found = false;
-  MapperOptions::forEachParameter(options,
-                                  [&](const char* field_name, const char*, const auto& field) {
-                                    if (found || name != field_name) return;
-                                    found = true;
-                                    value = static_cast<double>(field);
-                                  });
+  Options::forEachParameter(options, [&](const char* field_name, const char*, const auto& field) {
+    if (found || name != field_name) return;
+    found = true;
+    value = static_cast<double>(field);
+  });
   if (!found) throw std::invalid_argument("unknown option " + name);
   return value;
+}
+
+}  // namespace
+
+const std::vector<OptionField>& optionFields() {
+  static const std::vector<OptionField> fields = fieldsOf<MapperOptions>();
+  return fields;
+}
+
+const std::vector<OptionField>& batchOptionFields() {
+  static const std::vector<OptionField> fields = fieldsOf<BatchOptions>();
+  return fields;
+}
+
+bool setOption(MapperOptions& options, const std::string& name, double value) {
+  return setField(options, name, value);
+}
+
+bool setOption(BatchOptions& options, const std::string& name, double value) {
+  return setField(options, name, value);
+}
+
+double getOption(const MapperOptions& options, const std::string& name) {
+  return getField(options, name);
+}
+
+double getOption(const BatchOptions& options, const std::string& name) {
+  return getField(options, name);
 }
 
 }  // namespace rfm

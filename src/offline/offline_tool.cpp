@@ -51,10 +51,11 @@ int runOffline(const OfflineArguments& args, std::ostream& log) {
 
   // Options: defaults, then the --params file, then the flags.
   MapperOptions options;
+  BatchOptions batch;
   ModeSelection mode;
   try {
     if (!args.params.empty()) {
-      const ParamsReport report = loadParamsFile(args.params, options);
+      const ParamsReport report = loadParamsFile(args.params, options, batch);
       log << "parameters: " << report.applied.size() << " set from " << args.params;
       if (!report.ignored.empty()) {
         log << " (ignored, not mapper options:";
@@ -66,6 +67,7 @@ int runOffline(const OfflineArguments& args, std::ostream& log) {
     }
     mode = selectMode(args, options);
     options.validate();
+    batch.validate();
   } catch (const InvalidOption& e) {
     log << "rfm_offline: invalid parameter: " << e.what() << "\n";
     return 2;
@@ -126,7 +128,7 @@ int runOffline(const OfflineArguments& args, std::ostream& log) {
     {
       ProgressBar bar("mapping");
       result = processBatch(
-          input.scans, options, mode.mode,
+          input.scans, options, batch, mode.mode,
           [&bar](size_t done, size_t total) { bar.update(done, total); }, inspect);
     }
     summary.stage_seconds["process"] = secondsSince(stage);
@@ -181,6 +183,7 @@ int runOffline(const OfflineArguments& args, std::ostream& log) {
     summary.input = &input;
     summary.result = &result;
     summary.options = &options;
+    summary.batch = &batch;
     summary.wall_seconds = secondsSince(start);
     writeSummaryJson(joinPath(args.out, "summary.json"), summary);
 

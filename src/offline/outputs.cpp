@@ -283,16 +283,20 @@ void writeSummaryJson(const std::string& path, const RunSummary& summary) {
   json.endObject();
 
   json.key("parameters").beginObject();
-  for (const OptionField& field : optionFields()) {
-    const double value = getOption(options, field.name);
-    if (field.type == OptionField::Type::kDouble) {
-      json.key(field.name).value(value);
-    } else if (field.type == OptionField::Type::kBool) {
-      json.key(field.name).value(value != 0.0);
-    } else {
-      json.key(field.name).value(static_cast<int64_t>(std::llround(value)));
+  auto write_parameters = [&json](const std::vector<OptionField>& table, const auto& values) {
+    for (const OptionField& field : table) {
+      const double value = getOption(values, field.name);
+      if (field.type == OptionField::Type::kDouble) {
+        json.key(field.name).value(value);
+      } else if (field.type == OptionField::Type::kBool) {
+        json.key(field.name).value(value != 0.0);
+      } else {
+        json.key(field.name).value(static_cast<int64_t>(std::llround(value)));
+      }
     }
-  }
+  };
+  write_parameters(optionFields(), options);
+  write_parameters(batchOptionFields(), *summary.batch);
   json.endObject();
 
   json.key("notes").beginArray();

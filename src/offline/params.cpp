@@ -9,11 +9,11 @@ namespace rfm {
 namespace offline {
 namespace {
 
-const OptionField* findField(const std::string& name) {
-  for (const OptionField& field : optionFields()) {
-    if (field.name == name) return &field;
+bool isField(const std::vector<OptionField>& table, const std::string& name) {
+  for (const OptionField& field : table) {
+    if (field.name == name) return true;
   }
-  return nullptr;
+  return false;
 }
 
 double scalarValue(const std::string& name, const YAML::Node& node) {
@@ -32,27 +32,29 @@ double scalarValue(const std::string& name, const YAML::Node& node) {
   throw InvalidOption(name, "'" + node.Scalar() + "'", "a number or a boolean");
 }
 
+// `batch` may be null: batch keys are then ignored.
 void visit(const YAML::Node& node, const std::string& path, MapperOptions& options,
-           ParamsReport& report) {
+           BatchOptions* batch, ParamsReport& report) {
   for (const auto& entry : node) {
     const std::string key = entry.first.as<std::string>();
     const std::string full = path.empty() ? key : path + "/" + key;
     const YAML::Node& value = entry.second;
-    if (const OptionField* field = findField(key)) {
-      setOption(options, field->name, scalarValue(field->name, value));
-      report.applied.push_back(field->name);
+    if (isField(optionFields(), key)) {
+      setOption(options, key, scalarValue(key, value));
+      report.applied.push_back(key);
+    } else if (batch && isField(batchOptionFields(), key)) {
+      setOption(*batch, key, scalarValue(key, value));
+      report.applied.push_back(key);
     } else if (value.IsMap()) {
-      visit(value, full, options, report);
+      visit(value, full, options, batch, report);
     } else {
       report.ignored.push_back(full);
     }
   }
 }
 
-}  // namespace
-
-ParamsReport loadParamsText(const std::string& yaml, MapperOptions& options,
-                            const std::string& source) {
+ParamsReport loadText(const std::string& yaml, MapperOptions& options, BatchOptions* batch,
+                      const std::string& source) {
   YAML::Node root;
   try {
     root = YAML::Load(yaml);
@@ -64,16 +66,36 @@ ParamsReport loadParamsText(const std::string& yaml, MapperOptions& options,
   if (!root.IsMap()) {
     throw ParamsError("parameters " + source + " must be a YAML map of name: value");
   }
-  visit(root, "", options, report);
+  visit(root, "", options, batch, report);
   return report;
 }
 
-ParamsReport loadParamsFile(const std::string& path, MapperOptions& options) {
+std::string fileText(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw ParamsError("cannot read parameters file " + path);
   std::ostringstream text;
   text << in.rdbuf();
-  return loadParamsText(text.str(), options, path);
+  return text.str();
+}
+
+}  // namespace
+
+ParamsReport loadParamsText(const std::string& yaml, MapperOptions& options, BatchOptions& batch,
+                            const std::string& source) {
+  return loadText(yaml, options, &batch, source);
+}
+
+ParamsReport loadParamsText(const std::string& yaml, MapperOptions& options,
+                            const std::string& source) {
+  return loadText(yaml, options, nullptr, source);
+}
+
+ParamsReport loadParamsFile(const std::string& path, MapperOptions& options, BatchOptions& batch) {
+  return loadText(fileText(path), options, &batch, path);
+}
+
+ParamsReport loadParamsFile(const std::string& path, MapperOptions& options) {
+  return loadText(fileText(path), options, nullptr, path);
 }
 
 }  // namespace offline

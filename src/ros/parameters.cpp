@@ -218,6 +218,9 @@ std::vector<std::string> knownParameterNames() {
   std::vector<std::string> names = nodeParameterNames();
   for (const rfm::OptionField& field : rfm::optionFields())
     names.push_back(field.name);
+  // The offline batch's tuning shares config/default.yaml: the node takes it silently.
+  for (const rfm::OptionField& field : rfm::batchOptionFields())
+    names.push_back(field.name);
   return names;
 }
 

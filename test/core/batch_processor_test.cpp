@@ -28,8 +28,9 @@ TEST(BatchProcessor, PlainGridBaselineErasesGlassThatTheRfmKeeps) {
   for (const auto& step : driveBy({2.5, -1.5}, {-2.5, -1.5}, kPi)) {
     scans.push_back(world.timedScan(step.robot, 0.025 * scans.size()));
   }
-  const BatchResult baseline = processBatch(scans, MapperOptions{}, BatchMode::kPlainGrid);
-  const BatchResult full = processBatch(scans, MapperOptions{}, BatchMode::kFull);
+  const BatchResult baseline =
+      processBatch(scans, MapperOptions{}, BatchOptions{}, BatchMode::kPlainGrid);
+  const BatchResult full = processBatch(scans, MapperOptions{}, BatchOptions{}, BatchMode::kFull);
   ASSERT_EQ(baseline.labels.size(), scans.size());
   ASSERT_EQ(full.labels.size(), scans.size());
   EXPECT_EQ(full.labels[0].size(), scans[0].scan.ranges.size());
@@ -51,7 +52,7 @@ TEST(BatchProcessor, RecordingTooLargeForOneWindowIsRejected) {
                                         world.timedScan(Pose2D{{420.0, 0.0}, 0.0}, 0.025)};
   for (BatchMode mode : {BatchMode::kPlainGrid, BatchMode::kFull}) {
     try {
-      processBatch(scans, MapperOptions{}, mode);
+      processBatch(scans, MapperOptions{}, BatchOptions{}, mode);
       ADD_FAILURE() << "a recording 420 m across was accepted";
     } catch (const std::invalid_argument& error) {
       EXPECT_NE(std::string(error.what()).find("at most 400 m across"), std::string::npos)
@@ -92,7 +93,7 @@ TEST(BatchProcessor, RaysAddEvidenceOnlyWithinTheRadiusAsLive) {
   const GridGeometry g(0.05, 180);
   for (BatchMode mode : {BatchMode::kBasicRfm, BatchMode::kFull, BatchMode::kPlainGrid}) {
     SCOPED_TRACE(static_cast<int>(mode));
-    const BatchResult result = processBatch(scans, options, mode);
+    const BatchResult result = processBatch(scans, options, BatchOptions{}, mode);
     ASSERT_EQ(result.labels.size(), scans.size());
     // The end wall, 5.5 m or more from every view, got no evidence: unknown, as live.
     for (const CellIndex& end_wall : {g.cellOf({15.48, 0.0}), g.cellOf({15.48, 1.0})}) {
@@ -129,19 +130,19 @@ TEST(BatchProcessor, EveryNthScanOfEachSensorKeepsEachSensorsOrder) {
 // nothing is widely visible, whatever beta says (and no cell is static for being solid).
 TEST(BatchProcessor, BatchClassifiesWithBatchBeta) {
   const std::vector<TimedScan> scans = paneWithWallBehind(1);
-  auto static_cells = [&](MapperOptions options) {
+  auto static_cells = [&](MapperOptions options, const BatchOptions& batch) {
     options.motion_removal.solid_max_missed_ratio = 0.0;
-    const GlobalMap2D map = processBatch(scans, options, BatchMode::kMotionRemoval).map;
+    const GlobalMap2D map = processBatch(scans, options, batch, BatchMode::kMotionRemoval).map;
     std::vector<CellClass> classes;
     map.extract(map.bounds(), classes);
     return std::count(classes.begin(), classes.end(), CellClass::kStatic);
   };
-  MapperOptions unreachable_batch_beta = testing::scenarioOptions();
-  unreachable_batch_beta.occupancy.batch_beta = 10000.0;
-  EXPECT_EQ(static_cells(unreachable_batch_beta), 0);
+  BatchOptions unreachable_batch_beta;
+  unreachable_batch_beta.batch_beta = 10000.0;
+  EXPECT_EQ(static_cells(testing::scenarioOptions(), unreachable_batch_beta), 0);
   MapperOptions unreachable_beta = testing::scenarioOptions();
   unreachable_beta.occupancy.beta = 10000.0;
-  EXPECT_GT(static_cells(unreachable_beta), 50);  // the wall, the frames
+  EXPECT_GT(static_cells(unreachable_beta, BatchOptions{}), 50);  // the wall, the frames
 }
 
 // The batch's passes before the last take every Nth scan of each sensor, the last every scan:
@@ -152,18 +153,18 @@ TEST(BatchProcessor, SearchPassesInsertEveryNthScanAndTheLastEveryScan) {
   auto per_pass = [&](int stride) { return everyNthScanOfEachSensor(scans, stride).size(); };
   ASSERT_EQ(per_pass(8), (n / 2 + 7) / 8 + ((n + 1) / 2 + 7) / 8);
 
-  MapperOptions options = testing::scenarioOptions();
-  options.reflection_removal.first_pass_scan_stride = 8;
-  options.reflection_removal.search_pass_scan_stride = 2;
+  BatchOptions batch;
+  batch.first_pass_scan_stride = 8;
+  batch.search_pass_scan_stride = 2;
   for (int iterations : {2, 5}) {
     SCOPED_TRACE(iterations);
-    options.reflection_removal.max_reflection_iterations = iterations;
+    batch.max_reflection_iterations = iterations;
     size_t last_done = 0, last_total = 0;
-    const BatchResult full =
-        processBatch(scans, options, BatchMode::kFull, [&](size_t done, size_t total) {
-          last_done = done;
-          last_total = total;
-        });
+    const BatchResult full = processBatch(scans, testing::scenarioOptions(), batch,
+                                          BatchMode::kFull, [&](size_t done, size_t total) {
+                                            last_done = done;
+                                            last_total = total;
+                                          });
     // Passes 0 (every 8th), 1 .. k-2 (every 2nd), k-1 (every scan), then the labelling. A
     // search pass whose glass settled hands over to the last pass at once.
     const int passes = full.timings.reflection_iterations;
@@ -191,9 +192,9 @@ TEST(BatchProcessor, TwoParallelPanesTerminateWithBothKept) {
   for (const auto& step : driveBy({5.0, 4.0}, {5.0, -4.0}, -kPi / 2)) {
     scans.push_back(world.timedScan(step.robot, 0.025 * scans.size()));
   }
-  MapperOptions options = testing::scenarioOptions();
-  options.reflection_removal.max_reflection_iterations = 6;
-  const BatchResult full = processBatch(scans, options, BatchMode::kFull);
+  BatchOptions batch;
+  batch.max_reflection_iterations = 6;
+  const BatchResult full = processBatch(scans, testing::scenarioOptions(), batch, BatchMode::kFull);
   EXPECT_LE(full.timings.reflection_iterations, 6);
   const GridGeometry g(0.05, 180);
   for (double x : {2.0, 3.5}) {

@@ -53,7 +53,7 @@ TEST(OccupancyRule, BetaSeparatesWidelyVisibleFromNarrowLobes) {
 
 TEST(OccupancyRule, BatchBetaLeavesAPersonWhoStoodStillOut) {
   OccupancyOptions batch;
-  batch.beta = batch.batch_beta;  // as processBatch classifies: 40
+  batch.beta = BatchOptions().batch_beta;  // as processBatch classifies: 40
   const OccupancyRule rule(batch, 2.0 * kDeg);
   // The threshold: 31 saturated bins with the others unobserved, 35 with the others missed.
   EXPECT_FALSE(rule.isWidelyVisible(fieldWithHits(30, 10, 0), {0, 0}));

@@ -1,4 +1,5 @@
 #include "reflectance_field_map/core/options.h"
+#include "reflectance_field_map/core/batch_processor.h"
 #include "reflectance_field_map/core/mapper.h"
 
 #include <gtest/gtest.h>
@@ -26,7 +27,6 @@ TEST(MapperOptions, EveryBadValueIsRejectedNamingTheField) {
       {"active_region_radius", {0.0, -3.0, 1000.0, 1.2}},
       {"alpha", {-0.1, 7.0}},
       {"beta", {0.0, 6.0, -1.0}},
-      {"batch_beta", {0.0, 6.0, -1.0, 20000.0}},
       {"metal_min_angle", {-1.0, 7.0}},
       {"motion_removal_rate", {0.0, -2.0, 1000.0}},
       {"persistence_time", {-1.0, 1e7}},
@@ -39,9 +39,6 @@ TEST(MapperOptions, EveryBadValueIsRejectedNamingTheField) {
       {"glass_max_static_neighbours", {-2, 9}},
       {"static_blocking_min_angle", {-0.1, 7.0, nan}},
       {"penetration_tolerance", {-0.1, 10.0}},
-      {"max_reflection_iterations", {0, 1000}},
-      {"first_pass_scan_stride", {0, 1001}},
-      {"search_pass_scan_stride", {0, 1001}},
       {"glass_completion_max_gap", {-0.1, 25.0, nan}},
       {"scan_buffer_size", {-1, 1e7}},
   };
@@ -67,6 +64,38 @@ TEST(MapperOptions, EveryBadValueIsRejectedNamingTheField) {
     if (field.type == OptionField::Type::kBool) continue;
     EXPECT_TRUE(covered.count(field.name)) << field.name << " has no rejection test";
   }
+}
+
+// The batch's own options are rejected the same way, naming the parameter.
+TEST(Options, BadBatchOptionsAreRejectedByName) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<std::pair<std::string, std::vector<double>>> bad = {
+      {"batch_beta", {0.0, 6.0, -1.0, 20000.0, nan}},
+      {"max_reflection_iterations", {0, 1000}},
+      {"first_pass_scan_stride", {0, 1001}},
+      {"search_pass_scan_stride", {0, 1001}},
+  };
+  std::set<std::string> covered;
+  for (const auto& [name, values] : bad) {
+    for (double value : values) {
+      BatchOptions batch;
+      ASSERT_TRUE(setOption(batch, name, value)) << name;
+      try {
+        batch.validate();
+        ADD_FAILURE() << name << " = " << value << " was accepted";
+      } catch (const InvalidOption& error) {
+        EXPECT_EQ(error.field(), name);
+      }
+      EXPECT_THROW(processBatch({}, MapperOptions{}, batch, BatchMode::kFull), InvalidOption);
+    }
+    covered.insert(name);
+  }
+  for (const OptionField& field : batchOptionFields()) {
+    EXPECT_TRUE(covered.count(field.name)) << field.name << " has no rejection test";
+  }
+  // The two tables are apart: a batch option is no mapper option.
+  MapperOptions mapper;
+  EXPECT_FALSE(setOption(mapper, "batch_beta", 50.0));
 }
 
 // The layout is not a parameter (the batch sets it), and is checked all the same.

@@ -100,16 +100,17 @@ TEST(FirstPassThroughDistance, StopsWhereTheRayCrossesGlassOrAStaticSurface) {
 TEST(ReflectionRemoval, WallSeenThroughGlassIsAReflection) {
   const std::vector<TimedScan> scans = paneWithWallBehind(1);
   const BatchResult motion_only =
-      processBatch(scans, testing::scenarioOptions(), BatchMode::kMotionRemoval);
+      processBatch(scans, testing::scenarioOptions(), BatchOptions{}, BatchMode::kMotionRemoval);
   EXPECT_EQ(countLabels(motion_only.labels).reflection, 0u);
   // The search passes with every scan (as Alg. 3 reads) and with every Nth (the default).
-  MapperOptions every_scan = testing::scenarioOptions();
-  every_scan.reflection_removal.first_pass_scan_stride = 1;
-  every_scan.reflection_removal.search_pass_scan_stride = 1;
-  for (const MapperOptions& options : {every_scan, testing::scenarioOptions()}) {
-    const bool every = options.reflection_removal.first_pass_scan_stride == 1;
+  BatchOptions every_scan;
+  every_scan.first_pass_scan_stride = 1;
+  every_scan.search_pass_scan_stride = 1;
+  for (const BatchOptions& batch : {every_scan, BatchOptions{}}) {
+    const bool every = batch.first_pass_scan_stride == 1;
     SCOPED_TRACE(every ? "every scan" : "every Nth scan");
-    const BatchResult full = processBatch(scans, options, BatchMode::kFull);
+    const BatchResult full =
+        processBatch(scans, testing::scenarioOptions(), batch, BatchMode::kFull);
     // With every scan in every pass, the glass found settles (passes of different scans differ
     // by their sampling too).
     if (every) {
@@ -148,8 +149,10 @@ TEST(ReflectionRemoval, MirrorImageIsRemoved) {
   for (const auto& step : driveBy({0.0, -4.0}, {0.0, 4.0}, 0.0)) {
     scans.push_back(world.timedScan(step.robot, 0.025 * scans.size()));
   }
-  const BatchResult full = processBatch(scans, testing::scenarioOptions(), BatchMode::kFull);
-  const BatchResult basic = processBatch(scans, testing::scenarioOptions(), BatchMode::kBasicRfm);
+  const BatchResult full =
+      processBatch(scans, testing::scenarioOptions(), BatchOptions{}, BatchMode::kFull);
+  const BatchResult basic =
+      processBatch(scans, testing::scenarioOptions(), BatchOptions{}, BatchMode::kBasicRfm);
   const GridGeometry g(0.05, 180);
   // The virtual wall would appear at x = 2.5 + (2.5 + 3.0) = 8.0.
   auto obstacle_near_virtual_wall = [&](const GlobalMap2D& map) {
@@ -192,9 +195,9 @@ TEST(ReflectionRemoval, GlassNeverFacedOnAFacadeLineIsCompleted) {
   }
   MapperOptions options = testing::scenarioOptions();
   options.active_region.active_region_radius = 15.0;
-  const BatchResult completed = processBatch(scans, options, BatchMode::kFull);
+  const BatchResult completed = processBatch(scans, options, BatchOptions{}, BatchMode::kFull);
   options.reflection_removal.glass_completion_max_gap = 0.0;
-  const BatchResult not_completed = processBatch(scans, options, BatchMode::kFull);
+  const BatchResult not_completed = processBatch(scans, options, BatchOptions{}, BatchMode::kFull);
 
   // Rays ending on the wall behind, by where they cross the facade's line.
   struct Share {

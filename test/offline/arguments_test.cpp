@@ -185,13 +185,31 @@ TEST(Params, EveryOptionRoundTrips) {
                   getOption(defaults, field.name));
     yaml += line;
   }
+  const BatchOptions batch_defaults;
+  for (const OptionField& field : batchOptionFields()) {
+    char line[128];
+    std::snprintf(line, sizeof(line), "%s: %.17g\n", field.name.c_str(),
+                  getOption(batch_defaults, field.name));
+    yaml += line;
+  }
   MapperOptions loaded;
   loaded.grid.resolution = 0.3;  // changed, must come back
-  const ParamsReport report = loadParamsText(yaml, loaded);
-  EXPECT_EQ(report.applied.size(), optionFields().size());
+  BatchOptions loaded_batch;
+  loaded_batch.batch_beta = 99.0;
+  const ParamsReport report = loadParamsText(yaml, loaded, loaded_batch);
+  EXPECT_EQ(report.applied.size(), optionFields().size() + batchOptionFields().size());
   for (const OptionField& field : optionFields()) {
     EXPECT_DOUBLE_EQ(getOption(loaded, field.name), getOption(defaults, field.name)) << field.name;
   }
+  for (const OptionField& field : batchOptionFields()) {
+    EXPECT_DOUBLE_EQ(getOption(loaded_batch, field.name), getOption(batch_defaults, field.name))
+        << field.name;
+  }
+  // A live mapper's load leaves the batch's keys aside.
+  MapperOptions live;
+  const ParamsReport live_report = loadParamsText(yaml, live);
+  EXPECT_EQ(live_report.applied.size(), optionFields().size());
+  EXPECT_EQ(live_report.ignored.size(), batchOptionFields().size());
 }
 
 TEST(Params, BadValuesNameTheParameter) {
@@ -251,18 +269,27 @@ TEST(Params, ShippedConfigFilesLoad) {
 TEST(Params, DefaultYamlMatchesTheCoreDefaults) {
   const std::filesystem::path path = std::filesystem::path(RFM_SOURCE_DIR) / "config/default.yaml";
   MapperOptions from_yaml;
-  loadParamsFile(path.string(), from_yaml);
+  BatchOptions batch_from_yaml;
+  loadParamsFile(path.string(), from_yaml, batch_from_yaml);
   const MapperOptions defaults;
   for (const OptionField& field : optionFields()) {
     EXPECT_NEAR(getOption(from_yaml, field.name), getOption(defaults, field.name),
                 1e-9 * std::max(1.0, std::abs(getOption(defaults, field.name))))
         << field.name << " in config/default.yaml differs from the core default";
   }
+  const BatchOptions batch_defaults;
+  for (const OptionField& field : batchOptionFields()) {
+    EXPECT_NEAR(getOption(batch_from_yaml, field.name), getOption(batch_defaults, field.name),
+                1e-9 * std::max(1.0, std::abs(getOption(batch_defaults, field.name))))
+        << field.name << " in config/default.yaml differs from the batch default";
+  }
   std::ifstream text(path);
   const std::string yaml((std::istreambuf_iterator<char>(text)), std::istreambuf_iterator<char>());
-  for (const OptionField& field : optionFields()) {
-    EXPECT_NE(yaml.find("\n" + field.name + ":"), std::string::npos)
-        << field.name << " is missing from config/default.yaml";
+  for (const auto* table : {&optionFields(), &batchOptionFields()}) {
+    for (const OptionField& field : *table) {
+      EXPECT_NE(yaml.find("\n" + field.name + ":"), std::string::npos)
+          << field.name << " is missing from config/default.yaml";
+    }
   }
 }
 

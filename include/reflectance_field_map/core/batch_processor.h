@@ -35,22 +35,23 @@ struct BatchResult {
 };
 
 // Every `stride`th scan of each sensor (by sensor_id), in their order: the scans a batch pass
-// that only searches for glass inserts (ReflectionRemovalOptions::first_pass_scan_stride and
+// that only searches for glass inserts (BatchOptions::first_pass_scan_stride and
 // search_pass_scan_stride).
 std::vector<const TimedScan*> everyNthScanOfEachSensor(const std::vector<TimedScan>& scans,
                                                        int stride);
 
 // Processes a whole recording: builds the map from every scan, runs motion removal and
 // iterative reflection removal over the final field and labels every beam against the final
-// map. Alg. 3's passes before the last take every Nth scan of each sensor (the options'
+// map. Alg. 3's passes before the last take every Nth scan of each sensor (`batch`'s
 // first_pass_scan_stride and search_pass_scan_stride); the last takes every scan. Uses the
-// same Mapper code as the live node, with OccupancyOptions::batch_beta in place of beta.
+// same Mapper code as the live node, with `batch.batch_beta` in place of beta.
 // `progress(done, total)` may be empty.
 // `inspect_field`, when set, sees the final reflectance field (e.g. for theta-resolved pictures).
 // Throws std::invalid_argument when the recording is too large for one window
 // (MapperLayout::kMaxWindowRadius).
 BatchResult processBatch(const std::vector<TimedScan>& scans, const MapperOptions& options,
-                         BatchMode mode, const std::function<void(size_t, size_t)>& progress = {},
+                         const BatchOptions& batch, BatchMode mode,
+                         const std::function<void(size_t, size_t)>& progress = {},
                          const std::function<void(const ReflectanceField&)>& inspect_field = {});
 
 }  // namespace rfm

@@ -87,11 +87,6 @@ struct OccupancyOptions {
   // eq. 7: widely visible when sum over theta of odds * dtheta exceeds beta (odds-radians).
   // An unobserved cell sums to 2*pi (prior odds 1 everywhere), so beta must exceed that.
   double beta = 30.0;
-  // The offline batch's beta (processBatch). It classifies having seen the whole recording, so
-  // it can ask for more: 40 is reflective over 62-70 deg at the clamp, wider than a person who
-  // stood still while the robot drove past. Live, `beta` anchors a frame glimpsed in passing
-  // sooner, and glass with it.
-  double batch_beta = 40.0;
   // Glassy cells reflective over at least this angle are reported as metal (wider lobe).
   double metal_min_angle = 0.2792526803190927;  // rad (16 deg): glass lobes are narrower
   void validate() const;
@@ -99,7 +94,6 @@ struct OccupancyOptions {
   static void forEachParameter(Self& self, Visit&& visit) {
     visit("alpha", "eq. 5: min reflective angle of an obstacle (rad)", self.alpha);
     visit("beta", "eq. 7: min marginal odds of a widely visible cell (rad)", self.beta);
-    visit("batch_beta", "batch: eq. 7 threshold of the offline tool (rad)", self.batch_beta);
     visit("metal_min_angle", "min reflective angle of metal (rad)", self.metal_min_angle);
   }
 };
@@ -177,17 +171,6 @@ struct ReflectionRemovalOptions {
   // would have returned the ray. A wall seen from one or two places (sparse scans) is crossed
   // by rays that pose error or its corners let pass. rad.
   double static_blocking_min_angle = 0.2792526803190927;  // 16 deg
-  // Batch re-processing passes (the paper's 1 loses glass on the shipped scenes, 3 changes
-  // nothing there).
-  int max_reflection_iterations = 2;
-  // The batch's passes before the last only find the glass that the last one cuts rays at, and
-  // neighbouring scans of a sensor (25 ms apart at 40 Hz) see nearly the same: those passes
-  // insert every Nth scan of each sensor. The first (no glass known yet) every
-  // `first_pass_scan_stride`th, the others every `search_pass_scan_stride`th; the last pass
-  // inserts and labels every scan. 1: every scan in every pass, as Alg. 3 reads. Glass returns
-  // only near its normal: sparser than every 3rd scan, the second pass misses panes.
-  int first_pass_scan_stride = 16;
-  int search_pass_scan_stride = 3;
   // Free stretches of a glass line, never faced, up to this long between structure are glass
   // (GlassCompletion; 0: off).
   double glass_completion_max_gap = 2.0;  // m
@@ -200,13 +183,6 @@ struct ReflectionRemovalOptions {
           self.penetration_tolerance);
     visit("static_blocking_min_angle", "reflective angle from which static cells block (rad)",
           self.static_blocking_min_angle);
-    visit("max_reflection_iterations", "batch re-processing passes",
-          self.max_reflection_iterations);
-    visit("first_pass_scan_stride", "batch: first pass inserts every Nth scan of each sensor",
-          self.first_pass_scan_stride);
-    visit("search_pass_scan_stride",
-          "batch: later passes but the last insert every Nth scan of each sensor",
-          self.search_pass_scan_stride);
     visit("glass_completion_max_gap", "free stretch of a glass line taken as glass (m, 0 off)",
           self.glass_completion_max_gap);
     visit("scan_buffer_size", "scans kept for online re-processing", self.scan_buffer_size);
@@ -234,17 +210,55 @@ struct MapperOptions {
   }
 };
 
-// Every MapperOptions parameter by name, so ROS parameters and YAML files are read through one
-// table. Booleans are 0/1, integers are rounded.
+// The offline batch's own tuning (processBatch): the live node never reads these. They sit in
+// config/default.yaml beside the others, under the same names.
+struct BatchOptions {
+  // The batch's eq. 7 threshold, in place of OccupancyOptions::beta. It classifies having seen
+  // the whole recording, so it can ask for more: 40 is reflective over 62-70 deg at the clamp,
+  // wider than a person who stood still while the robot drove past. Live, `beta` anchors a frame
+  // glimpsed in passing sooner, and glass with it.
+  double batch_beta = 40.0;
+  // Alg. 3 re-processing passes (the paper's 1 loses glass on the shipped scenes, 3 changes
+  // nothing there).
+  int max_reflection_iterations = 2;
+  // The passes before the last only find the glass that the last one cuts rays at, and
+  // neighbouring scans of a sensor (25 ms apart at 40 Hz) see nearly the same: those passes
+  // insert every Nth scan of each sensor. The first (no glass known yet) every
+  // `first_pass_scan_stride`th, the others every `search_pass_scan_stride`th; the last pass
+  // inserts and labels every scan. 1: every scan in every pass, as Alg. 3 reads. Glass returns
+  // only near its normal: sparser than every 3rd scan, the second pass misses panes.
+  int first_pass_scan_stride = 16;
+  int search_pass_scan_stride = 3;
+  void validate() const;
+  template <typename Self, typename Visit>
+  static void forEachParameter(Self& self, Visit&& visit) {
+    visit("batch_beta", "batch: eq. 7 threshold of the offline tool (rad)", self.batch_beta);
+    visit("max_reflection_iterations", "batch re-processing passes",
+          self.max_reflection_iterations);
+    visit("first_pass_scan_stride", "batch: first pass inserts every Nth scan of each sensor",
+          self.first_pass_scan_stride);
+    visit("search_pass_scan_stride",
+          "batch: later passes but the last insert every Nth scan of each sensor",
+          self.search_pass_scan_stride);
+  }
+};
+
+// Every parameter of an options struct (MapperOptions, BatchOptions) by name, so ROS parameters
+// and YAML files are read through one table. Booleans are 0/1, integers are rounded.
 struct OptionField {
   std::string name;
   std::string description;
   enum class Type { kDouble, kInt, kBool } type;
 };
+// MapperOptions' table.
 const std::vector<OptionField>& optionFields();
+// BatchOptions' table.
+const std::vector<OptionField>& batchOptionFields();
 // False when `name` is not a parameter.
 bool setOption(MapperOptions& options, const std::string& name, double value);
+bool setOption(BatchOptions& options, const std::string& name, double value);
 // Throws std::invalid_argument when `name` is not a parameter.
 double getOption(const MapperOptions& options, const std::string& name);
+double getOption(const BatchOptions& options, const std::string& name);
 
 }  // namespace rfm

@@ -62,6 +62,7 @@ struct RunSummary {
   const BagScans* input = nullptr;
   const BatchResult* result = nullptr;
   const MapperOptions* options = nullptr;
+  const BatchOptions* batch = nullptr;
   std::map<std::string, double> stage_seconds;  // read_bag, process, write_outputs, ...
   double wall_seconds = 0.0;
   std::vector<std::string> files;
