@@ -1,5 +1,7 @@
 #include "reflectance_field_map/core/rolling_window.h"
 
+#include "reflectance_field_map/core/reflectance_field.h"  // activeWindowTiles
+
 #include <gtest/gtest.h>
 
 #include <cmath>
