@@ -18,6 +18,8 @@
 #   RATES           replay rates (default "1 2 5 10")
 #   SCENES          simulated scenes (default "atrium")
 #   CAMPUS_SECONDS  s of the campus recording replayed (default 1800), at CAMPUS_RATE (default 20)
+#   RECORDINGS      which of "sim stationary campus" to replay (default: all three)
+#   NODE_PARAMS     extra node parameters for every run, as NAME:=VALUE (e.g. insertion_threads:=1)
 #   PORT            the master's port (default: a free one)
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/workspace.sh"
@@ -26,6 +28,8 @@ RATES="${RATES:-1 2 5 10}"
 SCENES="${SCENES:-atrium}"
 CAMPUS_SECONDS="${CAMPUS_SECONDS:-1800}"
 CAMPUS_RATE="${CAMPUS_RATE:-20}"
+RECORDINGS="${RECORDINGS:-sim stationary campus}"
+read -r -a node_params <<< "${NODE_PARAMS:-}"
 DATA="$rfm_source_dir/../shared/data/real"
 PY=/usr/bin/python3  # Debian's, with rospy
 PROBE="$rfm_source_dir/scripts/live_benchmark/probe.py"
@@ -67,7 +71,7 @@ run() {
   rosparam load "$rfm_source_dir/config/default.yaml" /rfm
   rosparam set /rfm/scan_topics "[$(sed 's/,/, /g' <<< "$topics")]"
   local assignment
-  for assignment in "$@"; do rosparam set "/rfm/${assignment%%:=*}" "${assignment#*:=}"; done
+  for assignment in ${node_params[@]+"${node_params[@]}"} "$@"; do rosparam set "/rfm/${assignment%%:=*}" "${assignment#*:=}"; done
   rosrun reflectance_field_map rfm_node __name:=rfm > "$OUT/runs/$name.node.log" 2>&1 &
   local node=$!
   for _ in $(seq 150); do rosservice list 2>/dev/null | grep -q /rfm/save_map && break; sleep 0.2; done
@@ -80,9 +84,11 @@ run() {
   for _ in $(seq 150); do [[ -f "$result.ready" ]] && break; sleep 0.2; done
   local limit=()
   [[ "$name" == campus* ]] && limit=(-u "$CAMPUS_SECONDS")
-  # Only what the node subscribes to: --wait-for-subscribers waits for every topic played.
-  rosbag play --clock --quiet --wait-for-subscribers -r "$rate" ${limit[@]+"${limit[@]}"} \
-    "$bag" --topics ${topics//,/ } /tf /tf_static > "$OUT/runs/$name.play.log" 2>&1
+  # Only what the node subscribes to: --wait-for-subscribers waits for every topic played. The
+  # clock at 1 kHz, so that a stamp's latency on it is good to a millisecond.
+  rosbag play --clock --hz 1000 --quiet --wait-for-subscribers -r "$rate" \
+    ${limit[@]+"${limit[@]}"} "$bag" --topics ${topics//,/ } /tf /tf_static \
+    > "$OUT/runs/$name.play.log" 2>&1
   # The probe ends once every scan is processed or dropped; a lost one must not hang the run.
   for _ in $(seq 300); do kill -0 "$probe" 2>/dev/null || break; sleep 0.1; done
   kill -INT "$probe" 2>/dev/null || true
@@ -106,20 +112,27 @@ with rosbag.Bag(args[0]) as bag:
 EOF
 }
 
-for scene in $SCENES; do
-  bag="$OUT/bags/$scene.bag"
-  scans="$(scan_count "$bag" /scan_front /scan_rear)"
-  for rate in $RATES; do run "${scene}_x$rate" "$bag" "$rate" /scan_front,/scan_rear "$scans"; done
-done
-stationary="$DATA/demo_stationary_simple_environment.bag"
-scans="$(scan_count "$stationary" /scan)"
-for rate in $RATES; do
-  run "stationary_x$rate" "$stationary" "$rate" /scan "$scans" fixed_frame:=laser \
-    base_frame:=laser
-done
-scans="$(scan_count "$OUT/bags/campus.bag" /scan -- "$CAMPUS_SECONDS")"
-run campus_map_default "$OUT/bags/campus.bag" "$CAMPUS_RATE" /scan "$scans"
-run campus_map_1hz "$OUT/bags/campus.bag" "$CAMPUS_RATE" /scan "$scans" map_publish_rate:=1.0
+rm -f "$OUT"/runs/*.json
+if [[ " $RECORDINGS " == *" sim "* ]]; then
+  for scene in $SCENES; do
+    bag="$OUT/bags/$scene.bag"
+    scans="$(scan_count "$bag" /scan_front /scan_rear)"
+    for rate in $RATES; do run "${scene}_x$rate" "$bag" "$rate" /scan_front,/scan_rear "$scans"; done
+  done
+fi
+if [[ " $RECORDINGS " == *" stationary "* ]]; then
+  stationary="$DATA/demo_stationary_simple_environment.bag"
+  scans="$(scan_count "$stationary" /scan)"
+  for rate in $RATES; do
+    run "stationary_x$rate" "$stationary" "$rate" /scan "$scans" fixed_frame:=laser \
+      base_frame:=laser
+  done
+fi
+if [[ " $RECORDINGS " == *" campus "* ]]; then
+  scans="$(scan_count "$OUT/bags/campus.bag" /scan -- "$CAMPUS_SECONDS")"
+  run campus_map_default "$OUT/bags/campus.bag" "$CAMPUS_RATE" /scan "$scans"
+  run campus_map_1hz "$OUT/bags/campus.bag" "$CAMPUS_RATE" /scan "$scans" map_publish_rate:=1.0
+fi
 cleanup
 pids=()
 trap - EXIT

@@ -8,7 +8,9 @@ namespace {
 
 // Waking a sleeping thread costs tens of microseconds on a VM, as much as a scan's share of
 // work: helpers spin this long for the next job before they sleep, and the caller spins for
-// the helpers to finish (their parts are about as long as its own).
+// the helpers to finish (their parts are about as long as its own). A helper spins only while
+// jobs follow each other within this time (the batch's scans); a live mapper's scans come
+// milliseconds apart, and spinning after each would only burn the core.
 constexpr auto kSpinTime = std::chrono::microseconds(200);
 
 inline void cpuRelax() {
@@ -72,9 +74,12 @@ void ParallelRunner::run(const std::function<void(int)>& part) {
 
 void ParallelRunner::helperLoop(int index) {
   unsigned seen = 0;
+  bool back_to_back = true;  // the last job came within kSpinTime of the one before
   while (true) {
-    const auto spin_until = std::chrono::steady_clock::now() + kSpinTime;
-    for (unsigned spins = 1; generation_.load(std::memory_order_acquire) == seen; ++spins) {
+    const auto idle_since = std::chrono::steady_clock::now();
+    const auto spin_until = idle_since + kSpinTime;
+    for (unsigned spins = 1; back_to_back && generation_.load(std::memory_order_acquire) == seen;
+         ++spins) {
       if (spins % 256 == 0 && std::chrono::steady_clock::now() >= spin_until) break;
       cpuRelax();
     }
@@ -82,6 +87,7 @@ void ParallelRunner::helperLoop(int index) {
       std::unique_lock<std::mutex> lock(mutex_);
       wake_.wait(lock, [&] { return generation_.load(std::memory_order_acquire) != seen; });
     }
+    back_to_back = std::chrono::steady_clock::now() < spin_until;
     seen = generation_.load(std::memory_order_acquire);
     if (stopping_) return;
     try {

@@ -8,7 +8,10 @@
 #include <nav_msgs/OccupancyGrid.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include <ros/callback_queue_interface.h>
+
 #include <boost/bind/bind.hpp>
+#include <boost/make_shared.hpp>
 
 #include <chrono>
 #include <functional>
@@ -38,6 +41,19 @@ bool olderThanBuffer(const std::string& tf_error) {
   return tf_error.find("extrapolation into the past") != std::string::npos;
 }
 
+// A function run by a callback queue, in the order of the queue's other callbacks.
+class QueuedCall : public ros::CallbackInterface {
+ public:
+  explicit QueuedCall(std::function<void()> call) : call_(std::move(call)) {}
+  CallResult call() override {
+    call_();
+    return Success;
+  }
+
+ private:
+  std::function<void()> call_;
+};
+
 }  // namespace
 
 MapperRos::MapperRos(const ros::NodeHandle& nh, const ros::NodeHandle& private_nh)
@@ -49,6 +65,9 @@ MapperRos::MapperRos(const ros::NodeHandle& nh, const ros::NodeHandle& private_n
 
 MapperRos::~MapperRos() {
   // Stop the callbacks before the members they use go away.
+  tf_listener_.reset();  // its thread calls onTransformsChanged
+  tf_buffer_->_removeTransformsChangedListener(transforms_changed_);
+  nh_.getCallbackQueue()->removeByID(callbackOwnerId());
   motion_timer_.stop();
   map_timer_.stop();
   marker_timer_.stop();
@@ -130,8 +149,12 @@ void MapperRos::setRosInterfaces() {
                                  &MapperRos::statsTimer, this);
   // Wall timers keep running when simulated time stops or jumps.
   watchdog_timer_ = nh_.createWallTimer(ros::WallDuration(0.25), &MapperRos::watchdogTimer, this);
-  // Scans waiting for late transforms are looked at again this often.
-  tf_wait_timer_ = nh_.createWallTimer(ros::WallDuration(0.02), &MapperRos::tfWaitTimer, this);
+  // Waiting scans are looked at again as soon as a transform arrives (posted to this node's
+  // callback queue, so they stay on its one thread), and on a slow wall timer besides, which
+  // gives up on those whose transform can no longer come when TF stops altogether.
+  transforms_changed_ =
+      tf_buffer_->_addTransformsChangedListener([this] { onTransformsChanged(); });
+  tf_wait_timer_ = nh_.createWallTimer(ros::WallDuration(0.1), &MapperRos::tfWaitTimer, this);
 
   std::lock_guard<std::mutex> lock(mapper_mutex_);
   publishFullMapLocked();
@@ -222,7 +245,7 @@ void MapperRos::releaseWaiting(ScanInput& input) {
                                  &error) &&
         tf_buffer_->canTransform(params_.fixed_frame, frame, stamp, &error) &&
         tf_buffer_->canTransform(params_.fixed_frame, params_.base_frame, stamp, &error);
-    if (!ready && !olderThanBuffer(error)) return;  // its transform may still come
+    if (!ready && !olderThanBuffer(error)) break;  // its transform may still come
     ArrivedScan arrived = std::move(input.waiting.front());
     input.waiting.pop_front();
     if (ready) {
@@ -231,11 +254,39 @@ void MapperRos::releaseWaiting(ScanInput& input) {
       tfFailure(input, msg, TfFailure::kOlderThanBuffer);
     }
   }
+  updateScansWaiting();
 }
 
 void MapperRos::tfWaitTimer(const ros::WallTimerEvent&) {
+  releaseAllWaiting();
+}
+
+void MapperRos::onTransformsChanged() {
+  // On tf2's listener thread, for every transform: one queued call at a time, and none while
+  // no scan waits.
+  if (!scans_waiting_.load(std::memory_order_acquire)) return;
+  if (release_queued_.exchange(true, std::memory_order_acq_rel)) return;
+  nh_.getCallbackQueue()->addCallback(boost::make_shared<QueuedCall>([this] {
+                                        release_queued_.store(false, std::memory_order_release);
+                                        releaseAllWaiting();
+                                      }),
+                                      callbackOwnerId());
+}
+
+void MapperRos::releaseAllWaiting() {
   for (auto& input : inputs_)
     releaseWaiting(*input);
+}
+
+uint64_t MapperRos::callbackOwnerId() const {
+  return reinterpret_cast<uint64_t>(this);
+}
+
+void MapperRos::updateScansWaiting() {
+  bool any = false;
+  for (const auto& input : inputs_)
+    any = any || !input->waiting.empty();
+  scans_waiting_.store(any, std::memory_order_release);
 }
 
 void MapperRos::tfFailure(ScanInput& input, const sensor_msgs::LaserScanConstPtr& msg,
@@ -517,6 +568,7 @@ void MapperRos::resetAfterTimeJump(double seconds_back) {
     scans_dropped_ += input->waiting.size();
     time_jump_drops_ += input->waiting.size();
     input->waiting.clear();
+    updateScansWaiting();
     input->last_stamp = ros::Time();
     input->last_seq = 0;
     if (input->rate) input->rate->clear();

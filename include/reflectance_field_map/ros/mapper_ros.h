@@ -15,6 +15,8 @@
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
+#include <boost/signals2/connection.hpp>
+
 #include <atomic>
 #include <deque>
 #include <map>
@@ -98,6 +100,12 @@ class MapperRos {
   void releaseWaiting(ScanInput& input);
   void processScan(ScanInput& input, ArrivedScan arrived);
   void tfFailure(ScanInput& input, const sensor_msgs::LaserScanConstPtr& msg, TfFailure reason);
+  void releaseAllWaiting();
+  // On tf2's listener thread: queues releaseAllWaiting on this node's callback queue.
+  void onTransformsChanged();
+  // Whether any scan waits (scans_waiting_), after the queues changed.
+  void updateScansWaiting();
+  uint64_t callbackOwnerId() const;  // of the calls this node queues
 
   void motionRemovalTimer(const ros::TimerEvent& event);
   void mapTimer(const ros::TimerEvent& event);
@@ -168,6 +176,9 @@ class MapperRos {
   ros::ServiceServer save_service_, load_service_, reset_service_;
   ros::Timer motion_timer_, map_timer_, marker_timer_, stats_timer_;
   ros::WallTimer watchdog_timer_, diagnostics_timer_, tf_wait_timer_;
+  boost::signals2::connection transforms_changed_;  // tf2's listener -> onTransformsChanged
+  std::atomic<bool> scans_waiting_{false};          // read on tf2's listener thread
+  std::atomic<bool> release_queued_{false};         // a releaseAllWaiting call is queued
   std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
 
   // Counters (also written from the TF listener thread through tfFailure).
