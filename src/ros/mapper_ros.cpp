@@ -179,6 +179,7 @@ void MapperRos::setDiagnostics() {
 }
 
 void MapperRos::incomingScan(ScanInput& input, const sensor_msgs::LaserScanConstPtr& msg) {
+  const auto arrival = std::chrono::steady_clock::now();
   ++input.received;
   if (input.rate) input.rate->tick();
   // Publishers number their messages: a gap means the subscriber queue dropped scans.
@@ -205,7 +206,7 @@ void MapperRos::incomingScan(ScanInput& input, const sensor_msgs::LaserScanConst
                       static_cast<unsigned long long>(stale_scans_.load()));
     return;
   }
-  ArrivedScan arrived{msg, toLaserScan2D(*msg)};
+  ArrivedScan arrived{msg, toLaserScan2D(*msg), arrival};
   const std::string problem = arrived.scan.validate();
   if (problem.empty() && !msg->header.frame_id.empty()) {
     input.waiting.push_back(std::move(arrived));
@@ -371,6 +372,8 @@ void MapperRos::processScan(ScanInput& input, ArrivedScan arrived) {
       input.labels_pub.publish(toRayLabelsMsg(msg->header, input.topic, labels));
     }
   }
+  scan_latency_.add(elapsedMs(arrived.arrived_at));
+  scan_age_.add((ros::Time::now() - msg->header.stamp).toSec() * 1000.0);
 }
 
 bool MapperRos::admitPoseLocked(ScanInput& input, double stamp, const Eigen::Vector2d& robot) {
@@ -525,6 +528,12 @@ void MapperRos::statsTimer(const ros::TimerEvent&) {
     msg.map_updates_published = map_tally_.updates;
     msg.map_cells_published = map_tally_.cells;
     msg.map_publish_ms_total = map_tally_.ms;
+    msg.scan_latency_ms_median = scan_latency_.quantile(0.5);
+    msg.scan_latency_ms_p99 = scan_latency_.quantile(0.99);
+    msg.scan_latency_ms_max = scan_latency_.max();
+    msg.scan_age_ms_median = scan_age_.quantile(0.5);
+    msg.scan_age_ms_p99 = scan_age_.quantile(0.99);
+    msg.scan_age_ms_max = scan_age_.max();
   }
   msg.header.stamp = ros::Time::now();
   msg.header.frame_id = params_.fixed_frame;
@@ -782,6 +791,12 @@ void MapperRos::diagnoseMapper(diagnostic_updater::DiagnosticStatusWrapper& stat
   pose_jumps_reported_ = pose_jumps;
   beyond_extent_reported_ = beyond;
   status.add("Scans processed", scans_processed_.load());
+  status.add("Scan latency median (ms)", scan_latency_.quantile(0.5));
+  status.add("Scan latency p99 (ms)", scan_latency_.quantile(0.99));
+  status.add("Scan latency max (ms)", scan_latency_.max());
+  status.add("Scan age median (ms)", scan_age_.quantile(0.5));
+  status.add("Scan age p99 (ms)", scan_age_.quantile(0.99));
+  status.add("Scan age max (ms)", scan_age_.max());
   status.add("Scan insertion time (ms)", stats.last_insert_ms);
   status.add("Reflection check time (ms)", stats.last_reflection_ms);
   status.add("Motion removal time (ms)", stats.last_motion_removal_ms);

@@ -4,6 +4,7 @@
 #include "reflectance_field_map/SaveMap.h"
 #include "reflectance_field_map/core/mapper.h"
 #include "reflectance_field_map/core/pose_gate.h"
+#include "reflectance_field_map/ros/latency_histogram.h"
 #include "reflectance_field_map/ros/map_directory.h"
 #include "reflectance_field_map/ros/parameters.h"
 
@@ -18,6 +19,7 @@
 #include <boost/signals2/connection.hpp>
 
 #include <atomic>
+#include <chrono>
 #include <deque>
 #include <map>
 #include <memory>
@@ -68,6 +70,7 @@ class MapperRos {
   struct ArrivedScan {
     sensor_msgs::LaserScanConstPtr msg;
     rfm::LaserScan2D scan;  // in the message's beam order (mirrored once TF says upside down)
+    std::chrono::steady_clock::time_point arrived_at;  // incomingScan's start
   };
 
   struct ScanInput {
@@ -167,6 +170,11 @@ class MapperRos {
     uint64_t cells = 0;
     double ms = 0.0;
   } map_tally_;
+  // Each processed scan's wall time from its arrival (incomingScan) to its filtered scan and
+  // labels published: the TF wait and the node's own work. Callback thread only.
+  LatencyHistogram scan_latency_;
+  // And from its stamp (ROS time): what a consumer of the filtered scan sees, the sweep included.
+  LatencyHistogram scan_age_;
 
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
