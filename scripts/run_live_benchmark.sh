@@ -87,8 +87,8 @@ run() {
   local limit=()
   [[ "$name" == campus* ]] && limit=(-u "$CAMPUS_SECONDS")
   # Only what the node subscribes to: --wait-for-subscribers waits for every topic played. The
-  # clock at 1 kHz, so that a stamp's latency on it is good to a millisecond.
-  rosbag play --clock --hz 1000 --quiet --wait-for-subscribers -r "$rate" \
+  # clock at rosbag's 100 Hz of wall time: every /clock message costs the node a callback.
+  rosbag play --clock --quiet --wait-for-subscribers -r "$rate" \
     ${limit[@]+"${limit[@]}"} "$bag" --topics ${topics//,/ } /tf /tf_static \
     > "$OUT/runs/$name.play.log" 2>&1
   # The probe ends once every scan is processed or dropped; a lost one must not hang the run.

@@ -357,6 +357,7 @@ void MapperRos::processScan(ScanInput& input, ArrivedScan arrived) {
       return;
     }
     ++scans_since_motion_removal_;
+    last_scan_processed_ = ros::Time::now();
     if (want_labels) {
       labels = mapper_->labelAddedScan(timed, update);
     }
@@ -374,6 +375,21 @@ void MapperRos::processScan(ScanInput& input, ArrivedScan arrived) {
   }
   scan_latency_.add(elapsedMs(arrived.arrived_at));
   scan_age_.add((ros::Time::now() - msg->header.stamp).toSec() * 1000.0);
+
+  // Motion removal every 1 / motion_removal_rate s of the scans' own clock, after the scan's
+  // labels went out: which scans a pass has seen then depends on the recording alone, not on
+  // how fast this machine keeps up with it (rfm_live_labels does the same).
+  std::lock_guard<std::mutex> lock(mapper_mutex_);
+  const double stamp = msg->header.stamp.toSec();
+  if (!last_pass_stamp_ || stamp - *last_pass_stamp_ >= motionRemovalPeriod()) {
+    last_pass_stamp_ = stamp;
+    runMotionRemovalLocked();
+    publishMapUpdateLocked();
+  }
+}
+
+double MapperRos::motionRemovalPeriod() const {
+  return 1.0 / params_.mapper.motion_removal.motion_removal_rate;
 }
 
 bool MapperRos::admitPoseLocked(ScanInput& input, double stamp, const Eigen::Vector2d& robot) {
@@ -425,8 +441,11 @@ Eigen::Vector2d MapperRos::extentWithLocked(const Eigen::Vector2d& robot) const 
 }
 
 void MapperRos::motionRemovalTimer(const ros::TimerEvent&) {
+  // Passes follow the scans' clock (processScan); this one classifies the last scans once they
+  // stop coming.
   std::lock_guard<std::mutex> lock(mapper_mutex_);
   if (scans_since_motion_removal_ == 0) return;
+  if (ros::Time::now() - last_scan_processed_ < ros::Duration(motionRemovalPeriod())) return;
   runMotionRemovalLocked();
   publishMapUpdateLocked();
 }
@@ -590,6 +609,7 @@ void MapperRos::resetMapperLocked() {
   mapper_->reset();
   pose_gate_->reset();
   scans_since_motion_removal_ = 0;
+  last_pass_stamp_.reset();
   map_published_ = false;
   publishFullMapLocked();
   publishMarkersLocked();
@@ -660,6 +680,7 @@ bool MapperRos::loadMap(reflectance_field_map::LoadMap::Request& request,
     mapper_.swap(loaded);  // the old mapper goes when `loaded` does, outside the lock
     pose_gate_->reset();
     scans_since_motion_removal_ = 0;
+    last_pass_stamp_.reset();
     map_published_ = false;
     publishFullMapLocked();
     publishMarkersLocked();

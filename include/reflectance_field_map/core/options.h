@@ -100,7 +100,7 @@ struct OccupancyOptions {
 
 struct MotionRemovalOptions {
   bool motion_removal_enabled = true;
-  double motion_removal_rate = 2.0;  // Hz, online timer
+  double motion_removal_rate = 2.0;  // Hz, passes on the scans' clock (live)
   // Cells reflective and hit again throughout this long anchor their component like widely
   // visible ones: a sensor that does not move sees walls from one direction only. A person
   // standing this long counts as structure until the misses after they leave clear the cells.
@@ -139,7 +139,8 @@ struct MotionRemovalOptions {
   template <typename Self, typename Visit>
   static void forEachParameter(Self& self, Visit&& visit) {
     visit("motion_removal_enabled", "run Alg. 2", self.motion_removal_enabled);
-    visit("motion_removal_rate", "motion removal timer (Hz)", self.motion_removal_rate);
+    visit("motion_removal_rate", "motion removal passes per s of the scans' clock (Hz)",
+          self.motion_removal_rate);
     visit("persistence_time", "reflective this long without a break anchors like V (s, 0 off)",
           self.persistence_time);
     visit("persistence_min_length", "persistent cells anchor components at least this long (m)",

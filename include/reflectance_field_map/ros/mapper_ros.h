@@ -24,6 +24,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -32,7 +33,8 @@ namespace rfm::ros_glue {
 
 // The live Reflectance Field Map front-end shared by rfm_node and the RfmNodelet: owns one
 // rfm::Mapper, feeds it the scans of every scan topic once TF knows the laser and the robot at
-// the scan's stamp, runs motion removal on a timer and publishes the map (/rfm/map,
+// the scan's stamp, runs motion removal every 1 / motion_removal_rate s of the scans' clock (on
+// a timer once they stop) and publishes the map (/rfm/map,
 // /rfm/map_updates), the glass and motion markers, one filtered scan per input, statistics and
 // diagnostics. Services ~save_map, ~load_map and ~reset.
 //
@@ -139,6 +141,7 @@ class MapperRos {
 
   // With mapper_mutex_ held.
   void runMotionRemovalLocked();
+  double motionRemovalPeriod() const;  // s
   void publishFullMapLocked();
   void publishMapUpdateLocked();
   void publishMarkersLocked();
@@ -157,6 +160,8 @@ class MapperRos {
   std::unique_ptr<rfm::Mapper> mapper_;
   std::unique_ptr<rfm::PoseGate> pose_gate_;
   uint64_t scans_since_motion_removal_ = 0;
+  std::optional<double> last_pass_stamp_;  // the scan stamp (s) of the last motion-removal pass
+  ros::Time last_scan_processed_;          // ROS time a scan was last inserted
   bool map_published_ = false;
   rfm::CellBox published_box_;   // geometry of the last full /rfm/map
   bool map_changed_ = true;      // since the last full map
