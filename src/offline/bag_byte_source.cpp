@@ -52,6 +52,14 @@ std::string FileSource::describe(uint64_t at) const {
   return "byte " + std::to_string(at);
 }
 
+void ByteBuffer::resize(size_t size) {
+  if (size > capacity_) {
+    data_.reset(new char[size]);  // default-initialised: not filled
+    capacity_ = size;
+  }
+  size_ = size;
+}
+
 void ChunkSource::read(uint64_t at, size_t length, char* out) {
   std::memcpy(out, bytes_.data() + at, length);
 }

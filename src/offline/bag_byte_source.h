@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <fstream>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -54,16 +55,32 @@ class FileSource : public ByteSource {
   size_t window_length_ = 0;
 };
 
+// Bytes that grow without being zero-filled, kept from chunk to chunk: a chunk's size need not
+// cost a fill, and decompression writes every byte the check then reads.
+class ByteBuffer {
+ public:
+  // Makes room for `size` bytes, their values unset.
+  void resize(size_t size);
+  char* data() { return data_.get(); }
+  const char* data() const { return data_.get(); }
+  size_t size() const { return size_; }
+
+ private:
+  std::unique_ptr<char[]> data_;
+  size_t size_ = 0;
+  size_t capacity_ = 0;
+};
+
 // A chunk's decompressed data, positions counted from its start.
 class ChunkSource : public ByteSource {
  public:
-  ChunkSource(const std::vector<char>& bytes, std::string compression, uint64_t chunk_record)
+  ChunkSource(const ByteBuffer& bytes, std::string compression, uint64_t chunk_record)
       : bytes_(bytes), compression_(std::move(compression)), chunk_record_(chunk_record) {}
   void read(uint64_t at, size_t length, char* out) override;
   std::string describe(uint64_t at) const override;
 
  private:
-  const std::vector<char>& bytes_;
+  const ByteBuffer& bytes_;
   std::string compression_;
   uint64_t chunk_record_;
 };

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstring>
+#include <exception>
 #include <limits>
 #include <mutex>
 #include <new>
@@ -95,8 +96,8 @@ class ChunkChecker {
   HeaderFields fields_;
   HeaderFields connection_fields_;
   std::vector<uint32_t> message_offsets_;  // ascending: records are read in order
-  std::vector<char> compressed_;
-  std::vector<char> decompressed_;
+  ByteBuffer compressed_;
+  ByteBuffer decompressed_;
 };
 
 // The first failure in chunk order, whichever thread finds it.
@@ -143,6 +144,9 @@ void checkChunks(const std::string& path, const std::vector<ChunkToCheck>& chunk
         } catch (const std::bad_alloc&) {
           failure.record(chunk, "byte " + std::to_string(chunks[chunk].record) +
                                     ": not enough memory to check the chunk");
+        } catch (const std::exception& error) {  // nothing may leave a thread
+          failure.record(chunk, "byte " + std::to_string(chunks[chunk].record) +
+                                    ": the chunk cannot be checked: " + error.what());
         }
       }
     } catch (const BagStructureError& error) {  // the file cannot be opened again

@@ -25,9 +25,9 @@ std::string hexByte(unsigned char byte) {
   return text;
 }
 
-uint32_t uint32At(const std::vector<char>& bytes, size_t at) {
+uint32_t uint32At(const char* bytes, size_t at) {
   uint32_t value = 0;
-  std::memcpy(&value, bytes.data() + at, 4);
+  std::memcpy(&value, bytes + at, 4);
   return value;
 }
 
@@ -36,7 +36,7 @@ std::string sizeMismatch(unsigned int produced, size_t size) {
          std::to_string(size) + ")";
 }
 
-std::string decompressBz2(std::vector<char>& compressed, std::vector<char>& decompressed) {
+std::string decompressBz2(ByteBuffer& compressed, ByteBuffer& decompressed) {
   unsigned int produced = static_cast<unsigned int>(decompressed.size());
   const int result = BZ2_bzBuffToBuffDecompress(decompressed.data(), &produced, compressed.data(),
                                                 static_cast<unsigned int>(compressed.size()), 0, 0);
@@ -49,8 +49,8 @@ std::string decompressBz2(std::vector<char>& compressed, std::vector<char>& deco
   return {};
 }
 
-std::string decompressLz4(std::vector<char>& compressed, std::vector<char>& decompressed) {
-  const std::string frame_problem = checkLz4Frame(compressed);
+std::string decompressLz4(ByteBuffer& compressed, ByteBuffer& decompressed) {
+  const std::string frame_problem = checkLz4Frame(compressed.data(), compressed.size());
   if (!frame_problem.empty()) return frame_problem;
   unsigned int produced = static_cast<unsigned int>(decompressed.size());
   const int result =
@@ -73,9 +73,9 @@ uint64_t maxDecompressedChunkBytes(uint64_t compressed_bytes) {
   return std::min(kMaxChunkBytes, std::max(kSmallChunkBytes, by_ratio));
 }
 
-std::string checkLz4Frame(const std::vector<char>& frame) {
-  if (frame.size() < kLz4HeaderBytes) {
-    return std::to_string(frame.size()) + " bytes, too few for an lz4 frame's 7-byte header";
+std::string checkLz4Frame(const char* frame, size_t size) {
+  if (size < kLz4HeaderBytes) {
+    return std::to_string(size) + " bytes, too few for an lz4 frame's 7-byte header";
   }
   if (uint32At(frame, 0) != kLz4Magic) return "frame byte 0: no lz4 frame magic number";
   const auto flags = static_cast<unsigned char>(frame[4]);
@@ -90,14 +90,14 @@ std::string checkLz4Frame(const std::vector<char>& frame) {
   }
   const uint32_t max_block = uint32_t{1} << (8 + 2 * block_size_id);
   for (size_t at = kLz4HeaderBytes;;) {
-    if (frame.size() - at < 4) {
+    if (size - at < 4) {
       return "frame byte " + std::to_string(at) + ": the frame ends inside a block size";
     }
     const uint32_t block = uint32At(frame, at) & ~kLz4UncompressedBlockBit;
     if (block == 0) {  // the end mark, then the stream checksum
-      if (frame.size() - at != 8) {
+      if (size - at != 8) {
         return "frame byte " + std::to_string(at) + ": the end mark is followed by " +
-               std::to_string(frame.size() - at - 4) + " bytes, not the 4-byte checksum";
+               std::to_string(size - at - 4) + " bytes, not the 4-byte checksum";
       }
       return {};
     }
@@ -106,17 +106,16 @@ std::string checkLz4Frame(const std::vector<char>& frame) {
              " bytes, larger than the frame's block size (" + std::to_string(max_block) + ")";
     }
     at += 4;
-    if (block > frame.size() - at) {
+    if (block > size - at) {
       return "frame byte " + std::to_string(at - 4) + ": a block of " + std::to_string(block) +
-             " bytes runs past the end of the frame (" + std::to_string(frame.size() - at) +
-             " bytes left)";
+             " bytes runs past the end of the frame (" + std::to_string(size - at) + " bytes left)";
     }
     at += block;
   }
 }
 
-std::string decompressChunk(const std::string& compression, std::vector<char>& compressed,
-                            std::vector<char>& decompressed) {
+std::string decompressChunk(const std::string& compression, ByteBuffer& compressed,
+                            ByteBuffer& decompressed) {
   if (compression == "bz2") return decompressBz2(compressed, decompressed);
   if (compression == "lz4") return decompressLz4(compressed, decompressed);
   return "compression '" + compression + "' is neither bz2 nor lz4";

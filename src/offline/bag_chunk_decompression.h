@@ -3,9 +3,11 @@
 // A compressed chunk of a ROS bag decompressed as rosbag decompresses it (libbz2, roslz4), after
 // checks that keep both this and rosbag's own decompression inside their buffers.
 
+#include "bag_byte_source.h"
+
+#include <cstddef>
 #include <cstdint>
 #include <string>
-#include <vector>
 
 namespace rfm {
 namespace offline {
@@ -28,13 +30,13 @@ uint64_t maxDecompressedChunkBytes(uint64_t compressed_bytes);
 // Decompresses `compressed` ("bz2" or "lz4" as `compression` says) into `decompressed`, which
 // the caller has sized to the chunk's size field. Returns an empty string when the data
 // decompress to exactly that size, else what is wrong with them (after "the chunk's data: ").
-std::string decompressChunk(const std::string& compression, std::vector<char>& compressed,
-                            std::vector<char>& decompressed);
+std::string decompressChunk(const std::string& compression, ByteBuffer& compressed,
+                            ByteBuffer& decompressed);
 
 // What is wrong with an lz4 chunk's frame as roslz4 reads it (its 7-byte header, then blocks of
 // a 4-byte size and that many bytes, ended by a zero size and a 4-byte checksum), or an empty
 // string. A block larger than the frame's block size would overflow roslz4's block buffer.
-std::string checkLz4Frame(const std::vector<char>& frame);
+std::string checkLz4Frame(const char* frame, size_t size);
 
 }  // namespace detail
 }  // namespace offline
