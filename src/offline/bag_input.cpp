@@ -2,6 +2,7 @@
 
 #include "reflectance_field_map/core/pose_gate.h"
 #include "reflectance_field_map/offline/bag_messages.h"
+#include "reflectance_field_map/offline/bag_structure.h"
 #include "reflectance_field_map/ros/conversions.h"
 
 #include <rosbag/bag.h>
@@ -227,6 +228,12 @@ BagScans readBagScans(const BagInputOptions& options,
     throw BagInputError("cannot read bag " + options.bag + ": no such file");
   }
   const std::string hint = looksLikeBag(options.bag) ? recoveryHint(options.bag) : std::string();
+  // rosbag allocates and parses at the lengths the file claims: a bag it cannot take safely is
+  // refused before it opens it.
+  const std::string structure_problem = checkBagStructure(options.bag);
+  if (!structure_problem.empty()) {
+    throw BagInputError("cannot read bag " + options.bag + ": " + structure_problem + hint);
+  }
   rosbag::Bag bag;
   try {
     bag.open(options.bag, rosbag::bagmode::Read);
