@@ -147,8 +147,12 @@ import sys
 out, campus_seconds = sys.argv[1], float(sys.argv[2])
 def fmt(value, digits=1):
     return "-" if value is None else ("%.*f" % (digits, value))
+def order(path):  # by recording, then by rate: atrium_x2 before atrium_x10
+    name = os.path.basename(path)[:-5]
+    stem, _, rate = name.rpartition("_x")
+    return (stem, int(rate)) if rate.isdigit() else (name, 0)
 rows = []
-for path in sorted(glob.glob(os.path.join(out, "runs", "*.json"))):
+for path in sorted(glob.glob(os.path.join(out, "runs", "*.json")), key=order):
     name = os.path.basename(path)[:-5]
     with open(path) as f:
         r = json.load(f)

@@ -1,23 +1,30 @@
 #!/usr/bin/env bash
-# Measures rfm_offline's throughput (the full RFM, whole runs: bag reading and label writing
-# included) on every shipped scene. Runs the scenes round-robin ROUNDS times, so that a slow
-# minute of a shared machine spreads over all of them, and prints each scene's median, fastest
-# and slowest real-time factor (timing.real_time_factor of summary.json) as a markdown table.
+# Measures rfm_offline's throughput, whole runs (bag reading and label writing included): the full
+# RFM and, right after it on the same bag, the plain grid (--baseline). Bags: every shipped scene
+# and the random checking seeds of every sensor setup (rfm_sim --random SEED --setup SETUP). The
+# bags run round-robin ROUNDS times, so that a slow minute of a shared machine spreads over all
+# of them. Prints per bag, as a markdown table: the full RFM's median real-time factor
+# (timing.real_time_factor of summary.json), the plain grid's, and the median of the per-round
+# ratios of their wall times (full / plain, measured side by side).
 #
 #   scripts/run_throughput.sh
 #
 # Environment:
 #   RFM_WS   catkin workspace with the built package (default: rfm_ws beside the checkout)
-#   OUT      scratch directory; a scene's bag is OUT/<scene>/sim.bag, simulated when missing, so
-#            run_evaluation.sh's bags are reused (default: /tmp/rfm_eval)
+#   OUT      scratch directory; a scene's bag is OUT/<scene>/sim.bag, a seed's
+#            OUT/random/<setup>_<seed>.bag, simulated when missing, so run_evaluation.sh's bags
+#            are reused (default: /tmp/rfm_eval)
 #   SCENES   space-separated scene names (default: every config/scenes/*.yaml)
-#   ROUNDS   runs per scene (default: 5)
+#   SEEDS    random checking seeds (default: "1001 1002"; empty: none)
+#   SETUPS   sensor setups for the seeds (default: every name rfm_sim --list-setups prints)
+#   ROUNDS   runs per bag and mode (default: 5)
 #   PARAMS   optional rfm_offline --params file
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/workspace.sh"
 REPO="$rfm_source_dir"
 OUT="${OUT:-/tmp/rfm_eval}"
 ROUNDS="${ROUNDS:-5}"
+SEEDS="${SEEDS-1001 1002}"
 
 if [[ ! -f "$rfm_ws/devel/setup.bash" ]]; then
   echo "run_throughput.sh: $rfm_ws/devel/setup.bash not found; build the workspace or set RFM_WS" >&2
@@ -28,48 +35,92 @@ rfm_activate
 if [[ -z "${SCENES:-}" ]]; then
   SCENES="$(cd "$REPO/config/scenes" && ls -1 ./*.yaml | sed 's|^\./||; s|\.yaml$||' | tr '\n' ' ')"
 fi
+if [[ -z "${SETUPS:-}" ]]; then
+  SETUPS="$(rosrun reflectance_field_map rfm_sim --list-setups |
+    sed -n 's/^\([a-z0-9_]*\): .*/\1/p' | tr '\n' ' ')"
+fi
 flags=()
 [[ -n "${PARAMS:-}" ]] && flags=(--params "$PARAMS")
 
+scan_topics_of() {  # the bag's sensor_msgs/LaserScan topics, comma-separated
+  python3 - "$1" <<'PY'
+import sys
+import rosbag
+with rosbag.Bag(sys.argv[1]) as bag:
+    info = bag.get_type_and_topic_info().topics
+print(",".join(sorted(t for t, i in info.items() if i.msg_type == "sensor_msgs/LaserScan")))
+PY
+}
+
+names=()
+bags=()
 for scene in $SCENES; do
-  if [[ ! -f "$OUT/$scene/sim.bag" ]]; then
+  bag="$OUT/$scene/sim.bag"
+  if [[ ! -f "$bag" ]]; then
     echo "== $scene: simulating" >&2
     mkdir -p "$OUT/$scene"
-    rosrun reflectance_field_map rfm_sim --scene "$REPO/config/scenes/$scene.yaml" \
-      --out "$OUT/$scene/sim.bag" > /dev/null
+    rosrun reflectance_field_map rfm_sim --scene "$REPO/config/scenes/$scene.yaml" --out "$bag" \
+      > /dev/null
   fi
+  names+=("$scene")
+  bags+=("$bag")
 done
+for setup in $SETUPS; do
+  for seed in $SEEDS; do
+    bag="$OUT/random/${setup}_$seed.bag"
+    if [[ ! -f "$bag" ]]; then
+      echo "== $setup seed $seed: simulating" >&2
+      mkdir -p "$OUT/random"
+      rosrun reflectance_field_map rfm_sim --random "$seed" --setup "$setup" --out "$bag" \
+        > /dev/null
+    fi
+    names+=("${setup}_$seed")
+    bags+=("$bag")
+  done
+done
+topics=()
+for bag in "${bags[@]}"; do topics+=("$(scan_topics_of "$bag")"); done
 
-TIMES="$OUT/throughput.txt"  # one line per run: scene, real-time factor, wall s
+TIMES="$OUT/throughput.txt"  # one line per run: bag name, mode, real-time factor, wall s
 : > "$TIMES"
 for round in $(seq "$ROUNDS"); do
-  for scene in $SCENES; do
-    dir="$OUT/$scene/throughput"
-    rm -rf "$dir"
-    rosrun reflectance_field_map rfm_offline --bag "$OUT/$scene/sim.bag" --out "$dir" \
-      ${flags[@]+"${flags[@]}"} > /dev/null 2>&1 ||
-      { echo "run_throughput.sh: rfm_offline failed on $scene" >&2; exit 1; }
-    python3 -c '
+  for i in "${!bags[@]}"; do
+    for mode in full plain; do
+      dir="$OUT/throughput/${names[$i]}_$mode"
+      rm -rf "$dir"
+      mode_flags=()
+      [[ "$mode" == plain ]] && mode_flags=(--baseline)
+      rosrun reflectance_field_map rfm_offline --bag "${bags[$i]}" --out "$dir" \
+        --scan-topics "${topics[$i]}" ${flags[@]+"${flags[@]}"} ${mode_flags[@]+"${mode_flags[@]}"} > /dev/null 2>&1 ||
+        { echo "run_throughput.sh: rfm_offline failed on ${bags[$i]} ($mode)" >&2; exit 1; }
+      python3 -c '
 import json, sys
-timing = json.load(open(sys.argv[2]))["timing"]
-print(sys.argv[1], timing["real_time_factor"], timing["wall_s"])' \
-      "$scene" "$dir/summary.json" >> "$TIMES"
-    echo "== round $round/$ROUNDS: $(tail -n 1 "$TIMES")" >&2
+timing = json.load(open(sys.argv[3]))["timing"]
+print(sys.argv[1], sys.argv[2], timing["real_time_factor"], timing["wall_s"])' \
+        "${names[$i]}" "$mode" "$dir/summary.json" >> "$TIMES"
+    done
+    echo "== round $round/$ROUNDS: $(tail -n 2 "$TIMES" | tr '\n' ' ')" >&2
   done
 done
 
 python3 - "$TIMES" "$ROUNDS" "$(git -C "$REPO" rev-parse --short HEAD 2>/dev/null || echo unknown)" <<'PY'
 import collections, statistics, sys
-runs = collections.OrderedDict()
+factors = collections.OrderedDict()
+walls = collections.defaultdict(list)
 for line in open(sys.argv[1]):
-    scene, factor, _ = line.split()
-    runs.setdefault(scene, []).append(float(factor))
-print(f"rfm_offline, full RFM, commit {sys.argv[3]}, {sys.argv[2]} rounds, times real time:")
+    name, mode, factor, wall = line.split()
+    factors.setdefault(name, {"full": [], "plain": []})[mode].append(float(factor))
+    walls[name, mode].append(float(wall))
+print(f"rfm_offline, commit {sys.argv[3]}, {sys.argv[2]} rounds, times real time "
+      "(median of the rounds) and the full RFM's wall time over the plain grid's (median of "
+      "the per-round ratios):")
 print()
-print("| scene | median | fastest | slowest | >= 25x (median) |")
-print("|---|---:|---:|---:|:---:|")
-for scene, factors in runs.items():
-    median = statistics.median(factors)
-    print(f"| {scene} | {median:.1f} | {max(factors):.1f} | {min(factors):.1f} | "
-          f"{'yes' if median >= 25.0 else 'no'} |")
+print("| bag | full RFM | plain grid | full / plain | >= 50x | <= 1.5x |")
+print("|---|---:|---:|---:|:---:|:---:|")
+for name, modes in factors.items():
+    full = statistics.median(modes["full"])
+    plain = statistics.median(modes["plain"])
+    ratio = statistics.median(a / b for a, b in zip(walls[name, "full"], walls[name, "plain"]))
+    print(f"| {name} | {full:.1f}x | {plain:.1f}x | {ratio:.2f} | "
+          f"{'yes' if full >= 50.0 else 'no'} | {'yes' if ratio <= 1.5 else 'no'} |")
 PY
