@@ -25,6 +25,7 @@
 #   PORT            the master's port (default: a free one)
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/workspace.sh"
+source "$(dirname "${BASH_SOURCE[0]}")/own_master.sh"
 OUT="${OUT:-/tmp/rfm_live_benchmark}"
 RATES="${RATES:-1 2 5 10}"
 SCENES="${SCENES:-atrium}"
@@ -52,17 +53,7 @@ done
   "$DATA/freiburg-campus-corrected.log.gz" "$OUT/bags/campus.bag" > /dev/null
 
 PORT="${PORT:-$("$PY" -c 'import socket; s = socket.socket(); s.bind(("", 0)); print(s.getsockname()[1])')}"
-export ROS_MASTER_URI="http://localhost:$PORT" ROS_HOSTNAME=localhost
-pids=()
-cleanup() {
-  for ((i = ${#pids[@]} - 1; i >= 0; i--)); do kill -INT "${pids[$i]}" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-}
-trap cleanup EXIT
-roscore -p "$PORT" > "$OUT/roscore.log" 2>&1 &
-pids+=($!)
-for _ in $(seq 100); do rosparam list > /dev/null 2>&1 && break; sleep 0.2; done
-rosparam set /use_sim_time true
+rfm_start_master "$PORT" "$OUT/roscore.log"
 
 # run NAME BAG RATE TOPICS SCANS [PARAM:=VALUE...]: one replay through a fresh node.
 run() {
@@ -135,8 +126,7 @@ if [[ " $RECORDINGS " == *" campus "* ]]; then
   run campus_map_default "$OUT/bags/campus.bag" "$CAMPUS_RATE" /scan "$scans"
   run campus_map_1hz "$OUT/bags/campus.bag" "$CAMPUS_RATE" /scan "$scans" map_publish_rate:=1.0
 fi
-cleanup
-pids=()
+rfm_stop_all
 trap - EXIT
 
 "$PY" - "$OUT" "$CAMPUS_SECONDS" > "$OUT/live_benchmark.md" <<'EOF'

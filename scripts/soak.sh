@@ -21,6 +21,7 @@
 #   WARMUP_LAPS  laps before memory is judged (default 2: exploring, then the first revisit)
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/workspace.sh"
+source "$(dirname "${BASH_SOURCE[0]}")/own_master.sh"
 DURATION="${DURATION:-3600}"
 RATE="${RATE:-1}"
 SCENES="${SCENES:-atrium office glass_wall corridor_pedestrian}"
@@ -59,27 +60,17 @@ fi
 scans="$("$PY" -c "import json,sys; print(json.load(open(sys.argv[1]))['scans'])" "$long.json")"
 
 # 3. A master of its own, the node on simulated time, the monitor.
-export ROS_MASTER_URI="http://localhost:$PORT" ROS_HOSTNAME=localhost
-pids=()
-cleanup() {
-  for ((i = ${#pids[@]} - 1; i >= 0; i--)); do kill -INT "${pids[$i]}" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-}
-trap cleanup EXIT
-roscore -p "$PORT" > "$OUT/roscore.log" 2>&1 &
-pids+=($!)
-for _ in $(seq 100); do rosparam list > /dev/null 2>&1 && break; sleep 0.2; done
-rosparam set /use_sim_time true
+rfm_start_master "$PORT" "$OUT/roscore.log"
 rosparam load "$rfm_source_dir/config/default.yaml" /rfm
 rosparam set /rfm/map_directory "$OUT/maps"
 rosrun reflectance_field_map rfm_node __name:=rfm > "$OUT/node.log" 2>&1 &
 node=$!
-pids+=($node)
+rfm_pids+=($node)
 for _ in $(seq 150); do rosservice list 2>/dev/null | grep -q /rfm/save_map && break; sleep 0.2; done
 node_pid="$(pgrep -P "$node" rfm_node || echo "$node")"  # rosrun may exec or fork
 "$PY" "$TOOLS/monitor.py" --pid "$node_pid" --out "$OUT/samples.csv" --period "$PERIOD" \
   > "$OUT/monitor.log" 2>&1 &
-pids+=($!)
+rfm_pids+=($!)
 
 # 4. The replay.
 echo "== replaying $scans scans at rate $RATE (rfm_node pid $node_pid)"
@@ -93,8 +84,7 @@ for _ in $(seq 120); do [[ "$(accounted)" == "$scans" ]] && break; sleep 1; done
 # Memory is judged on the replay; saving builds the whole state in memory once more.
 cp "$OUT/samples.csv" "$OUT/samples_replay.csv"
 rosservice call /rfm/save_map "path: 'soak'" > "$OUT/save.log"
-cleanup
-pids=()
+rfm_stop_all
 trap - EXIT
 
 # 6. The same recording offline.
