@@ -3,6 +3,7 @@
 // chunk) are refused with a reason that says where; readBagScans refuses them before rosbag.
 
 #include "reflectance_field_map/offline/bag_structure.h"
+#include "../scratch_directory_test.h"
 #include "reflectance_field_map/offline/bag_input.h"
 
 #include <bzlib.h>
@@ -147,20 +148,8 @@ const Compression kCompressions[] = {{rosbag::compression::Uncompressed, "none"}
                                      {rosbag::compression::BZ2, "bz2"},
                                      {rosbag::compression::LZ4, "lz4"}};
 
-class BagStructure : public ::testing::Test {
+class BagStructure : public rfm_test::ScratchDirectoryTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("rfm_bag_structure_test_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    if (!HasFailure()) fs::remove_all(dir_);
-  }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-
   // 40 scans of 360 beams on /scan_front and a TF message before each; `chunk_bytes` small
   // gives several chunks.
   std::string writeBag(const std::string& name, rosbag::CompressionType compression,
@@ -201,8 +190,6 @@ class BagStructure : public ::testing::Test {
     writeFile(path(name), bytes);
     return checkBagStructure(path(name));
   }
-
-  fs::path dir_;
 };
 
 TEST_F(BagStructure, BagsWrittenByRosbagPass) {

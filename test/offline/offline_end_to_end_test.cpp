@@ -1,6 +1,7 @@
 // rfm_offline end to end: bags written here with rosbag (two lidars + TF, a stationary lidar
 // without TF), the real stationary recording of shared/data, and the error paths.
 
+#include "../scratch_directory_test.h"
 #include "reflectance_field_map/RayLabels.h"
 #include "reflectance_field_map/core/options.h"
 #include "reflectance_field_map/render/png_io.h"
@@ -147,22 +148,7 @@ void writeRobotBag(const std::string& path, bool with_tf, int short_scan = -1) {
   writeRobotBag(path, shape);
 }
 
-class OfflineEndToEnd : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("rfm_offline_test_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    if (!HasFailure()) fs::remove_all(dir_);
-  }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-
-  fs::path dir_;
-};
+class OfflineEndToEnd : public rfm_test::ScratchDirectoryTest {};
 
 void expectOutputs(const std::string& out) {
   for (const char* name :

@@ -7,11 +7,11 @@
 #include <rosbag/view.h>
 #include <sensor_msgs/LaserScan.h>
 #include <tf2_msgs/TFMessage.h>
+#include "../scratch_directory_test.h"
 
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -74,22 +74,7 @@ BagContents readBag(const std::string& path) {
   return contents;
 }
 
-class Carmen2Bag : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("rfm_carmen2bag_test_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    if (!HasFailure()) fs::remove_all(dir_);
-  }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-
-  fs::path dir_;
-};
+class Carmen2Bag : public rfm_test::ScratchDirectoryTest {};
 
 TEST_F(Carmen2Bag, SmallestRealLog) {
   const std::string log = RFM_SHARED_DATA_DIR "/real/orebro-corrected.log.gz";
