@@ -2,7 +2,7 @@
 //
 //   rfm_live_labels IN.bag OUT_labels.bag [PARAMS.yaml]
 //
-// The node's per-scan path (MapperRos::scanCallback): addScan, then labelAddedScan against the
+// The node's per-scan path (MapperRos::processScan): addScan, then labelAddedScan against the
 // map so far, and removeMotion every 1 / motion_removal_rate s of the scans' clock. Each beam is
 // judged when its scan arrives, as AMCL or a costmap would see the filtered scan, not against the
 // final map as rfm_offline does.
