@@ -381,7 +381,11 @@ void MapperRos::processScan(ScanInput& input, ArrivedScan arrived) {
   // how fast this machine keeps up with it (rfm_live_labels does the same).
   std::lock_guard<std::mutex> lock(mapper_mutex_);
   const double stamp = msg->header.stamp.toSec();
-  if (!last_pass_stamp_ || stamp - *last_pass_stamp_ >= motionRemovalPeriod()) {
+  const double period = motionRemovalPeriod();
+  // A pass stamped far ahead of the scans (one scan stamped in the future) must not hold the
+  // next ones back: the clock starts again from this scan.
+  if (last_pass_stamp_ && stamp < *last_pass_stamp_ - 2.0 * period) last_pass_stamp_ = stamp;
+  if (!last_pass_stamp_ || stamp - *last_pass_stamp_ >= period) {
     last_pass_stamp_ = stamp;
     runMotionRemovalLocked();
     publishMapUpdateLocked();
