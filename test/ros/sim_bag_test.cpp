@@ -120,8 +120,8 @@ TEST(SimulatedBag, PaneOccupiedAndPedestrianPathFree) {
   ASSERT_TRUE(played) << "rosbag play did not finish";
   ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "rosbag play failed";
 
-  // The map as the node left it at the bag's end: its last publishes come within a period of the
-  // last simulated second (map and motion removal at 1-2 Hz).
+  // The map as the node left it at the bag's end: its last update comes within a motion-removal
+  // period (0.5 s of the scans' clock) of the last scan.
   ASSERT_TRUE(waitFor([&] { return map.lastChange().toSec() >= kSceneEnd - 2.0; }, 20.0))
       << "last map change at " << map.lastChange().toSec() << " s";
 
