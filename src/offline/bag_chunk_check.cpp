@@ -66,10 +66,10 @@ class ChunkChecker {
     for (uint64_t at = range.begin; at < range.end;) {
       const RecordLayout record = readRecord(range, at, fields_);
       const int op = fields_.op();
-      if (op == kOpMessageData) {
+      if (op == rosbag::OP_MSG_DATA) {
         message_offsets_.push_back(static_cast<uint32_t>(record.start - range.begin));
       }
-      if (op == kOpConnection) readConnectionHeader(range, record, connection_fields_);
+      if (op == rosbag::OP_CONNECTION) readConnectionHeader(range, record, connection_fields_);
       at = record.end();
     }
   }

@@ -73,7 +73,7 @@ std::optional<uint64_t> HeaderFields::findUint64(std::string_view name) const {
 }
 
 int HeaderFields::op() const {
-  const std::optional<std::string_view> value = find("op");
+  const std::optional<std::string_view> value = find(rosbag::OP_FIELD_NAME);
   if (!value || value->size() != 1) return -1;
   return static_cast<unsigned char>((*value)[0]);
 }

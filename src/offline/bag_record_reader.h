@@ -6,6 +6,7 @@
 
 #include "bag_byte_source.h"
 
+#include <rosbag/constants.h>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -16,14 +17,6 @@
 namespace rfm {
 namespace offline {
 namespace detail {
-
-// rosbag's record ops (rosbag/constants.h).
-constexpr int kOpMessageData = 0x02;
-constexpr int kOpBagHeader = 0x03;
-constexpr int kOpIndexData = 0x04;
-constexpr int kOpChunk = 0x05;
-constexpr int kOpChunkInfo = 0x06;
-constexpr int kOpConnection = 0x07;
 
 // A record header or a connection's header is small; rosbag's ros::Header::parse refuses a field
 // over 1,000,000 bytes, so nothing rosbag writes comes near this.

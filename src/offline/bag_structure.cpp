@@ -55,7 +55,7 @@ class IndexSequence {
     }
     if (seen_ >= uint64_t{connections_} + chunk_infos_) return;
     const bool connection = seen_ < connections_;
-    if (op != (connection ? detail::kOpConnection : detail::kOpChunkInfo)) {
+    if (op != (connection ? rosbag::OP_CONNECTION : rosbag::OP_CHUNK_INFO)) {
       throw BagStructureError(source.describe(record.start) + ": record " + number(seen_ + 1) +
                               " of the bag's index (at byte " + number(index_pos_) + ") is not a " +
                               (connection ? "connection" : "chunk info") +
@@ -99,10 +99,10 @@ class BagStructureCheck {
       const RecordLayout record = detail::readRecord(whole, at, fields_);
       const int op = fields_.op();
       index.visit(record, op, file_);
-      if (op == detail::kOpChunk) checkChunkRecord(record);
-      if (op == detail::kOpIndexData) checkIndexData(record);
-      if (op == detail::kOpChunkInfo) checkChunkInfo(record);
-      if (op == detail::kOpConnection) detail::readConnectionHeader(whole, record, fields_);
+      if (op == rosbag::OP_CHUNK) checkChunkRecord(record);
+      if (op == rosbag::OP_INDEX_DATA) checkIndexData(record);
+      if (op == rosbag::OP_CHUNK_INFO) checkChunkInfo(record);
+      if (op == rosbag::OP_CONNECTION) detail::readConnectionHeader(whole, record, fields_);
       at = record.end();
     }
     index.finish(file_.size());
@@ -132,18 +132,19 @@ class BagStructureCheck {
   IndexSequence readBagHeader(const ByteRange& whole) {
     const RecordLayout record = detail::readRecord(whole, kBagHeaderStart, fields_);
     const std::string where = file_.describe(record.start);
-    if (fields_.op() != detail::kOpBagHeader) {
+    if (fields_.op() != rosbag::OP_FILE_HEADER) {
       throw BagStructureError(where + ": the first record is not the bag header (op 3)");
     }
-    const std::optional<uint64_t> index_pos = fields_.findUint64("index_pos");
-    const std::optional<uint32_t> connections = fields_.findUint32("conn_count");
-    const std::optional<uint32_t> chunk_infos = fields_.findUint32("chunk_count");
+    const std::optional<uint64_t> index_pos = fields_.findUint64(rosbag::INDEX_POS_FIELD_NAME);
+    const std::optional<uint32_t> connections =
+        fields_.findUint32(rosbag::CONNECTION_COUNT_FIELD_NAME);
+    const std::optional<uint32_t> chunk_infos = fields_.findUint32(rosbag::CHUNK_COUNT_FIELD_NAME);
     if (!index_pos || !connections || !chunk_infos) {
       throw BagStructureError(where +
                               ": the bag header lacks index_pos (8 bytes), conn_count or "
                               "chunk_count (4 bytes each)");
     }
-    const std::optional<std::string_view> encryptor = fields_.find("encryptor");
+    const std::optional<std::string_view> encryptor = fields_.find(rosbag::ENCRYPTOR_FIELD_NAME);
     if (encryptor && !encryptor->empty() && *encryptor != kNoEncryptor) {
       throw BagStructureError(where + ": the bag is encrypted (" + std::string(*encryptor) +
                               "); rfm_offline reads unencrypted bags only");
@@ -168,8 +169,9 @@ class BagStructureCheck {
   // The chunk record itself; its data are checked by checkChunks.
   void checkChunkRecord(const RecordLayout& record) {
     const std::string where = file_.describe(record.start);
-    const std::optional<std::string_view> compression = fields_.find("compression");
-    const std::optional<uint32_t> size = fields_.findUint32("size");
+    const std::optional<std::string_view> compression =
+        fields_.find(rosbag::COMPRESSION_FIELD_NAME);
+    const std::optional<uint32_t> size = fields_.findUint32(rosbag::SIZE_FIELD_NAME);
     if (!compression || !size) {
       throw BagStructureError(where + ": the chunk lacks its compression or size (4 bytes)");
     }
@@ -198,8 +200,8 @@ class BagStructureCheck {
 
   void checkIndexData(const RecordLayout& record) {
     const std::string where = file_.describe(record.start);
-    const std::optional<uint32_t> version = fields_.findUint32("ver");
-    const std::optional<uint32_t> count = fields_.findUint32("count");
+    const std::optional<uint32_t> version = fields_.findUint32(rosbag::VER_FIELD_NAME);
+    const std::optional<uint32_t> count = fields_.findUint32(rosbag::COUNT_FIELD_NAME);
     if (!version || *version != kIndexVersion || !count) {
       throw BagStructureError(where + ": the index record lacks ver 1 or its count (4 bytes)");
     }
@@ -218,9 +220,9 @@ class BagStructureCheck {
 
   void checkChunkInfo(const RecordLayout& record) {
     const std::string where = file_.describe(record.start);
-    const std::optional<uint32_t> version = fields_.findUint32("ver");
-    const std::optional<uint64_t> chunk_pos = fields_.findUint64("chunk_pos");
-    const std::optional<uint32_t> count = fields_.findUint32("count");
+    const std::optional<uint32_t> version = fields_.findUint32(rosbag::VER_FIELD_NAME);
+    const std::optional<uint64_t> chunk_pos = fields_.findUint64(rosbag::CHUNK_POS_FIELD_NAME);
+    const std::optional<uint32_t> count = fields_.findUint32(rosbag::COUNT_FIELD_NAME);
     if (!version || *version != kIndexVersion || !chunk_pos || !count) {
       throw BagStructureError(where +
                               ": the chunk info lacks ver 1, its chunk_pos (8 bytes) or its "
