@@ -145,8 +145,10 @@ void MapperRos::setRosInterfaces() {
     marker_timer_ = nh_.createTimer(ros::Duration(1.0 / params_.marker_publish_rate),
                                     &MapperRos::markerTimer, this);
   }
-  stats_timer_ = nh_.createTimer(ros::Duration(1.0 / params_.stats_publish_rate),
-                                 &MapperRos::statsTimer, this);
+  // /rfm/stats on wall time too, as /diagnostics: it keeps coming while a replay is paused and
+  // after ROS time jumps back (a ROS-time timer waits until the clock reaches its next tick).
+  stats_timer_ = nh_.createWallTimer(ros::WallDuration(1.0 / params_.stats_publish_rate),
+                                     &MapperRos::statsTimer, this);
   // Wall timers keep running when simulated time stops or jumps.
   watchdog_timer_ = nh_.createWallTimer(ros::WallDuration(0.25), &MapperRos::watchdogTimer, this);
   // Waiting scans are looked at again as soon as a transform arrives (posted to this node's
@@ -531,7 +533,7 @@ void MapperRos::publishMarkersLocked() {
   markers_changed_ = false;
 }
 
-void MapperRos::statsTimer(const ros::TimerEvent&) {
+void MapperRos::statsTimer(const ros::WallTimerEvent&) {
   reflectance_field_map::RfmStats msg;
   {
     std::lock_guard<std::mutex> lock(mapper_mutex_);

@@ -115,7 +115,7 @@ class MapperRos {
   void motionRemovalTimer(const ros::TimerEvent& event);
   void mapTimer(const ros::TimerEvent& event);
   void markerTimer(const ros::TimerEvent& event);
-  void statsTimer(const ros::TimerEvent& event);
+  void statsTimer(const ros::WallTimerEvent& event);
   void watchdogTimer(const ros::WallTimerEvent& event);
   void tfWaitTimer(const ros::WallTimerEvent& event);
   void diagnosticsTimer(const ros::WallTimerEvent& event);
@@ -187,8 +187,8 @@ class MapperRos {
 
   ros::Publisher map_pub_, map_update_pub_, glass_pub_, motion_pub_, stats_pub_;
   ros::ServiceServer save_service_, load_service_, reset_service_;
-  ros::Timer motion_timer_, map_timer_, marker_timer_, stats_timer_;
-  ros::WallTimer watchdog_timer_, diagnostics_timer_, tf_wait_timer_;
+  ros::Timer motion_timer_, map_timer_, marker_timer_;
+  ros::WallTimer stats_timer_, watchdog_timer_, diagnostics_timer_, tf_wait_timer_;
   boost::signals2::connection transforms_changed_;  // tf2's listener -> onTransformsChanged
   std::atomic<bool> scans_waiting_{false};          // read on tf2's listener thread
   std::atomic<bool> release_queued_{false};         // a releaseAllWaiting call is queued
