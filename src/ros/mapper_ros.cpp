@@ -30,6 +30,9 @@ constexpr char kStatsTopic[] = "/rfm/stats";
 // glass re-processes its buffered scans): 2.5 s of a 40 Hz lidar. Scans beyond it are dropped by
 // roscpp and counted from the gaps in header.seq.
 constexpr uint32_t kSubscriberQueue = 100;
+// Filtered scans and labels held for a subscriber that reads late (a busy planner, a loaded
+// machine): 1.25 s of two 40 Hz lidars, where 10 would lose them after an eighth of a second.
+constexpr uint32_t kPerScanOutputQueue = 100;
 
 double elapsedMs(const std::chrono::steady_clock::time_point& start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
@@ -121,9 +124,11 @@ void MapperRos::setRosInterfaces() {
     in.id = static_cast<uint32_t>(i);
     in.topic = params_.scan_topics[i];
     in.leaf = topicLeaf(in.topic);
-    in.filtered_pub = nh_.advertise<sensor_msgs::LaserScan>("/rfm/" + in.leaf + "/filtered", 10);
+    in.filtered_pub = nh_.advertise<sensor_msgs::LaserScan>("/rfm/" + in.leaf + "/filtered",
+                                                            kPerScanOutputQueue);
     in.labels_pub =
-        nh_.advertise<reflectance_field_map::RayLabels>("/rfm/" + in.leaf + "/labels", 10);
+        nh_.advertise<reflectance_field_map::RayLabels>("/rfm/" + in.leaf + "/labels",
+                                                        kPerScanOutputQueue);
 
     in.subscriber = nh_.subscribe<sensor_msgs::LaserScan>(
         in.topic, std::max<uint32_t>(kSubscriberQueue, queue),
