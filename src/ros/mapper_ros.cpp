@@ -124,11 +124,10 @@ void MapperRos::setRosInterfaces() {
     in.id = static_cast<uint32_t>(i);
     in.topic = params_.scan_topics[i];
     in.leaf = topicLeaf(in.topic);
-    in.filtered_pub = nh_.advertise<sensor_msgs::LaserScan>("/rfm/" + in.leaf + "/filtered",
-                                                            kPerScanOutputQueue);
-    in.labels_pub =
-        nh_.advertise<reflectance_field_map::RayLabels>("/rfm/" + in.leaf + "/labels",
-                                                        kPerScanOutputQueue);
+    in.filtered_pub =
+        nh_.advertise<sensor_msgs::LaserScan>("/rfm/" + in.leaf + "/filtered", kPerScanOutputQueue);
+    in.labels_pub = nh_.advertise<reflectance_field_map::RayLabels>("/rfm/" + in.leaf + "/labels",
+                                                                    kPerScanOutputQueue);
 
     in.subscriber = nh_.subscribe<sensor_msgs::LaserScan>(
         in.topic, std::max<uint32_t>(kSubscriberQueue, queue),

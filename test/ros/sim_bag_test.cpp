@@ -237,8 +237,8 @@ TEST(SimulatedBag, PaneOccupiedAndPedestrianPathFree) {
   std::cout << "labels: " << labels.scans() << " scans, " << labels.motion() << " MOTION beams; "
             << stats.summary() << "\n";
   EXPECT_GT(labels.scans(), 1000) << stats.summary();
-  EXPECT_GT(labels.motion(), 3000) << "MOTION labels over " << labels.scans() << " scans; "
-                                   << stats.summary();
+  EXPECT_GT(labels.motion(), 3000)
+      << "MOTION labels over " << labels.scans() << " scans; " << stats.summary();
 
   std::filesystem::remove_all(dir);
 }
