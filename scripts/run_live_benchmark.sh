@@ -148,18 +148,23 @@ for path in sorted(glob.glob(os.path.join(out, "runs", "*.json")), key=order):
         r = json.load(f)
     rows.append((name, r))
 print("| run | scans played | processed | dropped by the node | never reached it | CPU (one core) "
-      "| arrival to filtered ms: median / p99 / max "
+      "| arrival to filtered ms: median / p99 / max | of it, the TF wait: median / p99 "
+      "| and the node's own work: median / p99 / max "
       "| stamp to filtered ms: median / p99 / max | peak RSS MB |")
-print("|---|---:|---:|---:|---:|---:|---|---|---:|")
+print("|---|---:|---:|---:|---:|---:|---|---|---|---|---:|")
 for name, r in rows:
     if name.startswith("campus"):
         continue
     w, s = r["arrival_to_filtered_ms"], r["stamp_to_filtered_ms"]
+    t, o = r.get("tf_wait_ms", {}), r.get("own_work_ms", {})
     cpu = r.get("cpu_share_of_one_core")
-    print("| %s | %s | %s | %s | %s | %s %% | %s / %s / %s | %s / %s / %s | %s |" % (
+    print("| %s | %s | %s | %s | %s | %s %% | %s / %s / %s | %s / %s | %s / %s / %s "
+          "| %s / %s / %s | %s |" % (
         name, r.get("scans_played"), r.get("scans_processed"), r.get("scans_dropped"),
         r.get("scans_never_seen"), fmt(cpu and 100 * cpu),
-        fmt(w.get("median"), 2), fmt(w.get("p99"), 2), fmt(w.get("max"), 2), fmt(s.get("median")),
+        fmt(w.get("median"), 2), fmt(w.get("p99"), 2), fmt(w.get("max"), 2),
+        fmt(t.get("median"), 2), fmt(t.get("p99"), 2),
+        fmt(o.get("median"), 2), fmt(o.get("p99"), 2), fmt(o.get("max"), 2), fmt(s.get("median")),
         fmt(s.get("p99")), fmt(s.get("max")), fmt(r["peak_rss_kb"] and r["peak_rss_kb"] / 1024.0)))
 print()
 print("| campus (%.0f s of the recording) | full maps | updates | cells (bytes) per s "

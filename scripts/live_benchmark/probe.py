@@ -28,6 +28,12 @@ COUNTS = {"Scans processed": "processed", "Scans dropped (total)": "dropped",
 LATENCIES = {"Scan latency median (ms)": ("arrival_to_filtered_ms", "median"),
              "Scan latency p99 (ms)": ("arrival_to_filtered_ms", "p99"),
              "Scan latency max (ms)": ("arrival_to_filtered_ms", "max"),
+             "TF wait median (ms)": ("tf_wait_ms", "median"),
+             "TF wait p99 (ms)": ("tf_wait_ms", "p99"),
+             "TF wait max (ms)": ("tf_wait_ms", "max"),
+             "Scan work median (ms)": ("own_work_ms", "median"),
+             "Scan work p99 (ms)": ("own_work_ms", "p99"),
+             "Scan work max (ms)": ("own_work_ms", "max"),
              "Scan age median (ms)": ("stamp_to_filtered_ms", "median"),
              "Scan age p99 (ms)": ("stamp_to_filtered_ms", "p99"),
              "Scan age max (ms)": ("stamp_to_filtered_ms", "max")}
@@ -55,7 +61,7 @@ class Probe:
         self.last_wall = None
         self.stats = None
         self.counts = {}
-        self.latency = {"arrival_to_filtered_ms": {}, "stamp_to_filtered_ms": {}}
+        self.latency = {group: {} for group, _ in LATENCIES.values()}
         self.subscribers = [
             rospy.Subscriber("/rfm/%s/filtered" % topic.rstrip("/").rsplit("/", 1)[-1],
                              rospy.AnyMsg, self.on_filtered, queue_size=1000, tcp_nodelay=True)

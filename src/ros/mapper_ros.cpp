@@ -212,7 +212,7 @@ void MapperRos::incomingScan(ScanInput& input, const sensor_msgs::LaserScanConst
                       static_cast<unsigned long long>(stale_scans_.load()));
     return;
   }
-  ArrivedScan arrived{msg, toLaserScan2D(*msg), arrival};
+  ArrivedScan arrived{msg, toLaserScan2D(*msg), arrival, arrival};
   const std::string problem = arrived.scan.validate();
   if (problem.empty() && !msg->header.frame_id.empty()) {
     input.waiting.push_back(std::move(arrived));
@@ -221,7 +221,7 @@ void MapperRos::incomingScan(ScanInput& input, const sensor_msgs::LaserScanConst
       input.waiting.pop_front();
       tfFailure(input, oldest, TfFailure::kQueueOverflow);
     }
-    releaseWaiting(input);
+    releaseWaiting();
     return;
   }
   dropScan(input, input.malformed, malformed_scans_);
@@ -237,52 +237,70 @@ void MapperRos::dropScan(ScanInput&, std::atomic<uint64_t>& reason_on_topic,
   ++scans_dropped_;
 }
 
-void MapperRos::releaseWaiting(ScanInput& input) {
+bool MapperRos::transformReady(const sensor_msgs::LaserScan& msg, std::string& error) const {
+  const std::string frame = tf2FrameId(msg.header.frame_id);
+  const ros::Time stamp = msg.header.stamp;
+  const ros::Time settled = stamp + ros::Duration(params_.tf_tolerance);
+  return tf_buffer_->canTransform(params_.fixed_frame, frame, settled, &error) &&
+         tf_buffer_->canTransform(params_.fixed_frame, params_.base_frame, settled, &error) &&
+         tf_buffer_->canTransform(params_.fixed_frame, frame, stamp, &error) &&
+         tf_buffer_->canTransform(params_.fixed_frame, params_.base_frame, stamp, &error);
+}
+
+void MapperRos::releaseWaiting() {
   // tf2_ros::MessageFilter can lose a scan whose transform arrives while it is being queued: the
-  // buffer is asked directly instead, in order, each time.
-  const ros::Duration tolerance(params_.tf_tolerance);
-  while (!input.waiting.empty()) {
-    const sensor_msgs::LaserScanConstPtr msg = input.waiting.front().msg;
-    const std::string frame = tf2FrameId(msg->header.frame_id);
-    const ros::Time stamp = msg->header.stamp;
+  // buffer is asked directly instead, each time. Scans go in by stamp across topics, as the
+  // offline tool reads them; a topic whose oldest scan still waits holds only its own.
+  using Clock = std::chrono::steady_clock;
+  const int64_t changed_ns = buffer_changed_ns_.exchange(0, std::memory_order_acq_rel);
+  const Clock::time_point changed_at{std::chrono::nanoseconds(changed_ns)};
+  std::vector<bool> held(inputs_.size(), false);
+  for (;;) {
+    ScanInput* next = nullptr;
+    for (auto& input : inputs_) {
+      if (held[input->id] || input->waiting.empty()) continue;
+      if (!next ||
+          input->waiting.front().msg->header.stamp < next->waiting.front().msg->header.stamp) {
+        next = input.get();
+      }
+    }
+    if (!next) break;
     std::string error;
-    const bool ready =
-        tf_buffer_->canTransform(params_.fixed_frame, frame, stamp + tolerance, &error) &&
-        tf_buffer_->canTransform(params_.fixed_frame, params_.base_frame, stamp + tolerance,
-                                 &error) &&
-        tf_buffer_->canTransform(params_.fixed_frame, frame, stamp, &error) &&
-        tf_buffer_->canTransform(params_.fixed_frame, params_.base_frame, stamp, &error);
-    if (!ready && !olderThanBuffer(error)) break;  // its transform may still come
-    ArrivedScan arrived = std::move(input.waiting.front());
-    input.waiting.pop_front();
+    const bool ready = transformReady(*next->waiting.front().msg, error);
+    if (!ready && !olderThanBuffer(error)) {  // its transform may still come
+      held[next->id] = true;
+      continue;
+    }
+    ArrivedScan arrived = std::move(next->waiting.front());
+    next->waiting.pop_front();
     if (ready) {
-      processScan(input, std::move(arrived));
+      // Found waiting before: ready since the first transform after that look.
+      if (changed_ns != 0) arrived.ready_at = std::max(arrived.arrived_at, changed_at);
+      processScan(*next, std::move(arrived));
     } else {
-      tfFailure(input, msg, TfFailure::kOlderThanBuffer);
+      tfFailure(*next, arrived.msg, TfFailure::kOlderThanBuffer);
     }
   }
   updateScansWaiting();
 }
 
 void MapperRos::tfWaitTimer(const ros::WallTimerEvent&) {
-  releaseAllWaiting();
+  releaseWaiting();
 }
 
 void MapperRos::onTransformsChanged() {
   // On tf2's listener thread, for every transform: one queued call at a time, and none while
   // no scan waits.
+  int64_t none = 0;
+  buffer_changed_ns_.compare_exchange_strong(
+      none, std::chrono::steady_clock::now().time_since_epoch().count(), std::memory_order_acq_rel);
   if (!scans_waiting_.load(std::memory_order_acquire)) return;
   if (release_queued_.exchange(true, std::memory_order_acq_rel)) return;
   nh_.getCallbackQueue()->addCallback(boost::make_shared<QueuedCall>([this] {
                                         release_queued_.store(false, std::memory_order_release);
-                                        releaseAllWaiting();
+                                        releaseWaiting();
                                       }),
                                       callbackOwnerId());
-}
-
-void MapperRos::releaseAllWaiting() {
-  for (auto& input : inputs_)
-    releaseWaiting(*input);
 }
 
 uint64_t MapperRos::callbackOwnerId() const {
@@ -380,6 +398,9 @@ void MapperRos::processScan(ScanInput& input, ArrivedScan arrived) {
     }
   }
   scan_latency_.add(elapsedMs(arrived.arrived_at));
+  tf_wait_.add(
+      std::chrono::duration<double, std::milli>(arrived.ready_at - arrived.arrived_at).count());
+  scan_work_.add(elapsedMs(arrived.ready_at));
   scan_age_.add((ros::Time::now() - msg->header.stamp).toSec() * 1000.0);
 
   // Motion removal every 1 / motion_removal_rate s of the scans' own clock, after the scan's
@@ -560,6 +581,12 @@ void MapperRos::statsTimer(const ros::WallTimerEvent&) {
     msg.scan_latency_ms_median = scan_latency_.quantile(0.5);
     msg.scan_latency_ms_p99 = scan_latency_.quantile(0.99);
     msg.scan_latency_ms_max = scan_latency_.max();
+    msg.tf_wait_ms_median = tf_wait_.quantile(0.5);
+    msg.tf_wait_ms_p99 = tf_wait_.quantile(0.99);
+    msg.tf_wait_ms_max = tf_wait_.max();
+    msg.scan_work_ms_median = scan_work_.quantile(0.5);
+    msg.scan_work_ms_p99 = scan_work_.quantile(0.99);
+    msg.scan_work_ms_max = scan_work_.max();
     msg.scan_age_ms_median = scan_age_.quantile(0.5);
     msg.scan_age_ms_p99 = scan_age_.quantile(0.99);
     msg.scan_age_ms_max = scan_age_.max();
@@ -825,6 +852,12 @@ void MapperRos::diagnoseMapper(diagnostic_updater::DiagnosticStatusWrapper& stat
   status.add("Scan latency median (ms)", scan_latency_.quantile(0.5));
   status.add("Scan latency p99 (ms)", scan_latency_.quantile(0.99));
   status.add("Scan latency max (ms)", scan_latency_.max());
+  status.add("TF wait median (ms)", tf_wait_.quantile(0.5));
+  status.add("TF wait p99 (ms)", tf_wait_.quantile(0.99));
+  status.add("TF wait max (ms)", tf_wait_.max());
+  status.add("Scan work median (ms)", scan_work_.quantile(0.5));
+  status.add("Scan work p99 (ms)", scan_work_.quantile(0.99));
+  status.add("Scan work max (ms)", scan_work_.max());
   status.add("Scan age median (ms)", scan_age_.quantile(0.5));
   status.add("Scan age p99 (ms)", scan_age_.quantile(0.99));
   status.add("Scan age max (ms)", scan_age_.max());

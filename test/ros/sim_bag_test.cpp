@@ -77,6 +77,10 @@ class LastStats {
     std::lock_guard<std::mutex> lock(mutex_);
     return received_;
   }
+  reflectance_field_map::RfmStats last() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return last_;
+  }
   std::string summary() {
     std::lock_guard<std::mutex> lock(mutex_);
     std::ostringstream text;
@@ -239,6 +243,15 @@ TEST(SimulatedBag, PaneOccupiedAndPedestrianPathFree) {
   EXPECT_GT(labels.scans(), 1000) << stats.summary();
   EXPECT_GT(labels.motion(), 3000)
       << "MOTION labels over " << labels.scans() << " scans; " << stats.summary();
+
+  // A scan's latency splits into the wait for its transform and the node's own work. Each
+  // scan here arrives before the transform at its stamp, which comes a message later: every
+  // scan waits.
+  const reflectance_field_map::RfmStats last = stats.last();
+  EXPECT_GT(last.tf_wait_ms_median, 0.0);
+  EXPECT_GT(last.scan_work_ms_median, 0.0);
+  EXPECT_LE(last.tf_wait_ms_max, last.scan_latency_ms_max);
+  EXPECT_LE(last.scan_work_ms_max, last.scan_latency_ms_max);
 
   std::filesystem::remove_all(dir);
 }

@@ -73,6 +73,9 @@ class MapperRos {
     sensor_msgs::LaserScanConstPtr msg;
     rfm::LaserScan2D scan;  // in the message's beam order (mirrored once TF says upside down)
     std::chrono::steady_clock::time_point arrived_at;  // incomingScan's start
+    // When TF could first give its pose: arrived_at, or the first transform to reach the
+    // buffer after the scan was last found waiting. From here on the time is the node's own.
+    std::chrono::steady_clock::time_point ready_at;
   };
 
   struct ScanInput {
@@ -99,14 +102,17 @@ class MapperRos {
   void setDiagnostics();
 
   // Subscriber -> incomingScan (rate, time jumps, staleness, validation) -> waiting ->
-  // processScan once TF reaches the scan's stamp (releaseWaiting, on every scan and on a wall
-  // timer); a scan given up on goes to tfFailure.
+  // processScan once TF reaches the scan's stamp (releaseWaiting, on every scan, on every change
+  // of the TF buffer and on a wall timer); a scan given up on goes to tfFailure.
   void incomingScan(ScanInput& input, const sensor_msgs::LaserScanConstPtr& msg);
-  void releaseWaiting(ScanInput& input);
+  // Every topic's waiting scans whose transforms have come, oldest stamp first across topics.
+  void releaseWaiting();
+  // Whether TF can place the scan now (empty `error`), or why not.
+  bool transformReady(const sensor_msgs::LaserScan& msg, std::string& error) const;
   void processScan(ScanInput& input, ArrivedScan arrived);
   void tfFailure(ScanInput& input, const sensor_msgs::LaserScanConstPtr& msg, TfFailure reason);
-  void releaseAllWaiting();
-  // On tf2's listener thread: queues releaseAllWaiting on this node's callback queue.
+  // On tf2's listener thread: notes the change and queues releaseWaiting on this node's
+  // callback queue.
   void onTransformsChanged();
   // Whether any scan waits (scans_waiting_), after the queues changed.
   void updateScansWaiting();
@@ -176,8 +182,11 @@ class MapperRos {
     double ms = 0.0;
   } map_tally_;
   // Each processed scan's wall time from its arrival (incomingScan) to its filtered scan and
-  // labels published: the TF wait and the node's own work. Callback thread only.
+  // labels published, and its two parts: the wait for its transform (to ready_at) and the
+  // node's own work after it. Callback thread only.
   LatencyHistogram scan_latency_;
+  LatencyHistogram tf_wait_;
+  LatencyHistogram scan_work_;
   // And from its stamp (ROS time): what a consumer of the filtered scan sees, the sweep included.
   LatencyHistogram scan_age_;
 
@@ -191,7 +200,9 @@ class MapperRos {
   ros::WallTimer stats_timer_, watchdog_timer_, diagnostics_timer_, tf_wait_timer_;
   boost::signals2::connection transforms_changed_;  // tf2's listener -> onTransformsChanged
   std::atomic<bool> scans_waiting_{false};          // read on tf2's listener thread
-  std::atomic<bool> release_queued_{false};         // a releaseAllWaiting call is queued
+  std::atomic<bool> release_queued_{false};         // a releaseWaiting call is queued
+  // steady_clock nanoseconds of the first transform since the last release pass (0: none).
+  std::atomic<int64_t> buffer_changed_ns_{0};
   std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
 
   // Counters (also written from the TF listener thread through tfFailure).
