@@ -216,6 +216,9 @@ void MapperRos::incomingScan(ScanInput& input, const sensor_msgs::LaserScanConst
   const std::string problem = arrived.scan.validate();
   if (problem.empty() && !msg->header.frame_id.empty()) {
     input.waiting.push_back(std::move(arrived));
+    // Before its transform is looked for: one arriving between that look and the end of the
+    // pass must queue a release, or the scan waits for the next scan or transform.
+    scans_waiting_.store(true, std::memory_order_release);
     if (input.waiting.size() > static_cast<size_t>(params_.tf_queue_size)) {
       const sensor_msgs::LaserScanConstPtr oldest = input.waiting.front().msg;
       input.waiting.pop_front();
