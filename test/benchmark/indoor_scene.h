@@ -43,9 +43,10 @@ struct BenchmarkScan {
   std::vector<Ray> rays;
 };
 
-// Front and rear scans at 40 Hz along the corridor at 1 m/s (wheelchair speed), with ~3 %
-// random no-returns.
-inline std::vector<BenchmarkScan> indoorScans(int poses, const InsertionOptions& insertion) {
+// Front and rear scans of `beams` over 270 deg at 40 Hz along the corridor at 1 m/s (wheelchair
+// speed), with ~3 % random no-returns.
+inline std::vector<BenchmarkScan> indoorScans(int poses, const InsertionOptions& insertion,
+                                              int beams = 1081) {
   testing::SyntheticWorld world = indoorFloor();
   std::mt19937 rng(42);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -60,7 +61,7 @@ inline std::vector<BenchmarkScan> indoorScans(int poses, const InsertionOptions&
       b.scan.stamp = 0.0125 * static_cast<double>(scans.size());
       b.scan.robot_pose = robot;
       b.scan.sensor_pose = robot.compose(mount);
-      b.scan.scan = world.scan(b.scan.sensor_pose);
+      b.scan.scan = world.scan(b.scan.sensor_pose, beams);
       for (float& r : b.scan.scan.ranges) {
         if (unit(rng) < 0.03) r = std::numeric_limits<float>::infinity();
       }

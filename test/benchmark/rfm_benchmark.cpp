@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <vector>
 
@@ -295,6 +296,52 @@ void BM_WholeUpdatePerScan(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_WholeUpdatePerScan)->Unit(benchmark::kMillisecond);
+
+// Scaling: the whole online update per scan (as BM_WholeUpdatePerScan) and the active region's
+// memory, as one of the active-region radius (m), the theta bins and the beams per scan moves
+// away from the defaults (10 m, 180, 1081). Args: radius, theta bins, beams. Drawn by
+// test/benchmark/run_scaling.sh into doc/scaling.png.
+const std::vector<benchmarking::BenchmarkScan>& scansWithBeams(int beams) {
+  static std::map<int, std::vector<benchmarking::BenchmarkScan>> by_beams;
+  auto it = by_beams.find(beams);
+  if (it == by_beams.end()) {
+    it =
+        by_beams.emplace(beams, benchmarking::indoorScans(kPoses, InsertionOptions(), beams)).first;
+  }
+  return it->second;
+}
+
+void BM_Scaling(benchmark::State& state) {
+  MapperOptions options;
+  options.active_region.active_region_radius = static_cast<double>(state.range(0));
+  options.grid.theta_bins = static_cast<int>(state.range(1));
+  const auto& corridor = scansWithBeams(static_cast<int>(state.range(2)));
+  Mapper mapper{options};
+  for (const auto& s : corridor)
+    mapper.addScan(s.scan);
+  mapper.removeMotion();
+  size_t i = 0;
+  for (auto _ : state) {
+    const auto& s = corridor[i % corridor.size()];
+    TimedScan scan = s.scan;
+    scan.stamp += 100.0 + 0.0125 * static_cast<double>(i);
+    benchmark::DoNotOptimize(mapper.addScan(scan));
+    if (++i % 40 == 0) mapper.removeMotion();
+  }
+  state.counters["radius_m"] = static_cast<double>(state.range(0));
+  state.counters["theta_bins"] = static_cast<double>(state.range(1));
+  state.counters["beams"] = static_cast<double>(state.range(2));
+  state.counters["active_region_MB"] = mapper.stats().field_bytes / 1e6;
+}
+BENCHMARK(BM_Scaling)
+    ->Args({5, 180, 1081})
+    ->Args({10, 180, 1081})
+    ->Args({20, 180, 1081})
+    ->Args({10, 90, 1081})
+    ->Args({10, 720, 1081})
+    ->Args({10, 180, 270})
+    ->Args({10, 180, 4320})
+    ->Unit(benchmark::kMillisecond);
 
 // Memory, measured once: the active region at defaults, the compressed evidence kept for cells
 // that left it (per explored square metre), and the global 2D map of a 200 m x 200 m area.

@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Peers side by side on the same rays: the RFM with every stage (rfm_offline), the plain
+# occupancy grid (rfm_offline --baseline) and OctoMap inserting the same rays as a planar slice
+# at the same resolution (rfm_octomap_peer), on Freiburg 079 and the Freiburg campus
+# (rfm_carmen2bag of ../shared/data/real) and on the shipped atrium scene (rfm_sim). The three
+# run one after the other on each recording, ROUNDS rounds; per mapper the medians of: scans
+# mapped per second of its mapping (bag reading and output writing left out: the same reader
+# serves all three) and its process's peak resident memory (the scans it holds included, for all
+# three alike). Prints a markdown table. Run on a quiet machine, after scripts/build.sh.
+#
+#   test/benchmark/run_peers.sh              # OUT (default /tmp/rfm_peers), ROUNDS (default 3)
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+source "$here/../../scripts/workspace.sh"
+OUT="${OUT:-/tmp/rfm_peers}"
+ROUNDS="${ROUNDS:-3}"
+DATA="$rfm_source_dir/../shared/data/real"
+rfm_activate
+mkdir -p "$OUT"
+for log in freiburg-079 freiburg-campus; do
+  [[ -f "$OUT/$log.bag" ]] || rosrun reflectance_field_map rfm_carmen2bag \
+    "$DATA/$log-corrected.log.gz" "$OUT/$log.bag" > /dev/null
+done
+[[ -f "$OUT/atrium.bag" ]] || rosrun reflectance_field_map rfm_sim \
+  --scene "$rfm_source_dir/config/scenes/atrium.yaml" --out "$OUT/atrium.bag" > /dev/null
+/usr/bin/python3 "$here/peers.py" "$OUT" "$ROUNDS" "$rfm_ws/devel/lib/reflectance_field_map"
