@@ -69,6 +69,7 @@ struct Mapper::Impl {
   ClassifiedRegion region;                 // removeMotion's work
   MapperStats stats;
   double last_tick_stamp = 0.0;  // persistence ticks follow the scans' clock
+  bool tick_due = false;         // the last scan made a tick due; runDueTick runs it
   std::optional<Eigen::Vector2d> held_centre;
   std::vector<Ray> rays;
   std::vector<std::vector<Ray>> pending;  // addScans: prepared, not yet inserted
@@ -91,6 +92,7 @@ CellClass Mapper::cellClass(const CellIndex& cell) const {
 }
 
 ScanUpdate Mapper::addScan(const TimedScan& scan) {
+  runDueTick();
   ScanUpdate update = placeScan(scan);
   if (!update.error.empty()) return update;
   makeRays(scan, impl_->rays, update);
@@ -114,6 +116,7 @@ void Mapper::addScans(ScanIterator first, ScanIterator last) {
 }
 
 void Mapper::addScans(const std::vector<const TimedScan*>& scans) {
+  runDueTick();
   if (impl_->reflections.checks() && !impl_->reflections.frozen()) {
     // The glass check reads the field as the scans before left it: one by one.
     for (const TimedScan* scan : scans)
@@ -148,6 +151,7 @@ void Mapper::addScans(const std::vector<const TimedScan*>& scans) {
     group.push_back(scan);
     if (tickDue(scan->stamp)) flush();
     countScan(scan->stamp);
+    runDueTick();
   }
   if (!group.empty()) flush();
 }
@@ -185,12 +189,18 @@ void Mapper::makeRays(const TimedScan& scan, std::vector<Ray>& rays, ScanUpdate&
 
 void Mapper::countScan(double stamp) {
   if (tickDue(stamp)) {
-    impl_->anchor_history.tick(field_, impl_->motion.anchors(), impl_->runner.get());
+    impl_->tick_due = true;
     impl_->last_tick_stamp = stamp;
   } else if (impl_->stats.scans_processed == 0 || stamp < impl_->last_tick_stamp) {
     impl_->last_tick_stamp = stamp;  // first scan, or time went back
   }
   ++impl_->stats.scans_processed;
+}
+
+void Mapper::runDueTick() {
+  if (!impl_->tick_due) return;
+  impl_->tick_due = false;
+  impl_->anchor_history.tick(field_, impl_->motion.anchors(), impl_->runner.get());
 }
 
 bool Mapper::tickDue(double stamp) const {
@@ -215,6 +225,7 @@ void Mapper::finishScan(const TimedScan& scan, const std::vector<Ray>& rays,
 
 MotionRemovalSummary Mapper::removeMotion() {
   const auto start = std::chrono::steady_clock::now();
+  runDueTick();  // the anchors as the last scan left them
   impl_->reflections.thaw();  // the glass check reads the field again
   MotionRemovalSummary summary;
   classifyRegion(summary);
@@ -339,6 +350,7 @@ void Mapper::restartEvidence() {
   // Classes live on in the global map; the next scan re-places the window and restores them.
   field_.clear();
   impl_->anchor_history.clear();
+  impl_->tick_due = false;
   impl_->reflections.forgetScans();
 }
 
@@ -346,6 +358,7 @@ void Mapper::forgetDerivedState() {
   impl_->reflections.thaw();
   impl_->reflections.forgetScans();
   impl_->anchor_history.clear();
+  impl_->tick_due = false;
   impl_->classes.clear();
   impl_->completed_tiles.clear();
 }

@@ -119,6 +119,35 @@ TEST(Mapper, HeldActiveRegionStaysWhereItIsHeld) {
   EXPECT_EQ(mapper.cellClass(g.cellOf({3.0, 0.0})), CellClass::kFree);
 }
 
+// A scan that makes the anchor rules' persistence tick due leaves it for runDueTick (a live
+// caller runs it once the scan's labels are out): addScan itself never ticks then.
+TEST(Mapper, ADueTickWaitsForRunDueTick) {
+  SyntheticWorld world;
+  world.addWall({0.0, 2.0}, {40.0, 2.0});
+  world.addWall({0.0, -2.0}, {40.0, -2.0});
+  Mapper mapper(testing::scenarioOptions());
+  mapper.holdActiveRegionAt({3.5, 0.0});  // no tile leaves the window and its histories
+  auto confirmed_ticks = [&mapper] {
+    long sum = 0;
+    const ReflectanceField& field = mapper.field();
+    field.window().forEachCell(field.activeBox(), [&](int, int, int slot) {
+      sum += mapper.anchorHistory().confirmedTicksAt(slot);
+    });
+    return sum;
+  };
+  int i = 0, ticks_run = 0;
+  long before = 0;
+  for (const auto& step : driveBy({1.0, 0.0}, {6.0, 0.0}, 0.0)) {
+    mapper.addScan(world.timedScan(step.robot, 0.025 * i++));
+    ASSERT_EQ(confirmed_ticks(), before) << "addScan ticked, scan " << i;
+    mapper.runDueTick();
+    const long after = confirmed_ticks();
+    ticks_run += after != before;
+    before = after;
+  }
+  EXPECT_GT(ticks_run, 3);
+}
+
 // Same field, persistence and classes as addScan one by one, while the window moves, ticks
 // fall inside groups of scans and (with reflection removal) known glass cuts rays. With
 // `restart`, halfway both restart their evidence and take the scans again (batch

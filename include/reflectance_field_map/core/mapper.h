@@ -88,8 +88,13 @@ class Mapper {
   const MapperOptions& options() const { return options_; }
 
   // Re-centres the active region on the robot, cuts the rays at known glass (reflection
-  // removal, Alg. 3) and inserts them (Alg. 1).
+  // removal, Alg. 3) and inserts them (Alg. 1). The anchor rules' persistence tick that the scan
+  // makes due (every 1 / motion_removal_rate s of the scans' clock) waits for runDueTick(), which
+  // the next addScan, addScans or removeMotion runs first, so that it reads the field exactly as
+  // this scan left it: a live caller runs it once the scan's labels are out, off its latency.
   ScanUpdate addScan(const TimedScan& scan);
+  // Runs the persistence tick that the last scan made due, if any (see addScan).
+  void runDueTick();
 
   // addScan on each scan in turn, with the same result, for a batch: scans between window moves
   // and persistence ticks are inserted theta bin by theta bin (no per-scan ScanUpdate).
@@ -149,7 +154,7 @@ class Mapper {
   struct Impl;
   // The steps of addScan before the insertion: placeScan validates the scan and re-centres the
   // window on the robot; makeRays makes its rays within the active region. finishScan does what
-  // follows the insertion: countScan (a persistence tick when due) and keepInsertedRays
+  // follows the insertion: countScan (a persistence tick made due) and keepInsertedRays
   // (statistics, the scans kept for online re-processing), which addScans calls apart because it
   // inserts a group's rays after counting its scans.
   ScanUpdate placeScan(const TimedScan& scan);
