@@ -225,7 +225,7 @@ void Mapper::finishScan(const TimedScan& scan, const std::vector<Ray>& rays,
 
 MotionRemovalSummary Mapper::removeMotion() {
   const auto start = std::chrono::steady_clock::now();
-  runDueTick();  // the anchors as the last scan left them
+  runDueTick();               // the anchors as the last scan left them
   impl_->reflections.thaw();  // the glass check reads the field again
   MotionRemovalSummary summary;
   classifyRegion(summary);
