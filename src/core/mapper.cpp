@@ -2,10 +2,10 @@
 
 #include "reflectance_field_map/core/active_classes.h"
 #include "reflectance_field_map/core/anchor_history.h"
-#include "reflectance_field_map/core/glass_completion.h"
 #include "reflectance_field_map/core/occupancy.h"
 #include "reflectance_field_map/core/ray_labels.h"
 #include "reflectance_field_map/core/reflection_removal.h"
+#include "reflectance_field_map/core/region_classifier.h"
 #include "reflectance_field_map/core/scan_inserter.h"
 
 #include <chrono>
@@ -48,9 +48,11 @@ struct Mapper::Impl {
         motion(rule, AnchorRules::fromOptions(options.motion_removal, field.geometry(), rule,
                                               field.logOdds())),
         anchor_history(field),
-        completion(field.geometry(), options.reflection_removal.reflection_removal_enabled
-                                         ? options.reflection_removal.glass_completion_max_gap
-                                         : 0.0),
+        classifier(rule, options.motion_removal.motion_removal_enabled ? &motion : nullptr,
+                   GlassCompletion(field.geometry(),
+                                   options.reflection_removal.reflection_removal_enabled
+                                       ? options.reflection_removal.glass_completion_max_gap
+                                       : 0.0)),
         classes(field.window(), map, layout.clearance_block_shift),
         reflections(options.reflection_removal, field, classes) {}
 
@@ -58,15 +60,13 @@ struct Mapper::Impl {
   // re-centring (by tile), the reflection check (by ray), motion removal (by band of rows) and
   // batch labelling (by scan).
   std::shared_ptr<ParallelRunner> runner;
-  ScanInserter inserter;                   // Alg. 1
-  OccupancyRule rule;                      // eq. 5 and 7
-  MotionRemover motion;                    // Alg. 2
-  AnchorHistory anchor_history;            // what Alg. 2's anchor rules remember
-  GlassCompletion completion;              // glass the robot has not faced yet
-  std::vector<TileIndex> completed_tiles;  // tiles holding completed glass at the last removal
-  ActiveClasses classes;                   // the active region's classes, from the last removal
-  ReflectionRemover reflections;           // Alg. 3
-  ClassifiedRegion region;                 // removeMotion's work
+  ScanInserter inserter;          // Alg. 1
+  OccupancyRule rule;             // eq. 5 and 7
+  MotionRemover motion;           // Alg. 2
+  AnchorHistory anchor_history;   // what Alg. 2's anchor rules remember
+  RegionClassifier classifier;    // Alg. 2 over the region, then glass completion
+  ActiveClasses classes;          // the active region's classes, from the last removal
+  ReflectionRemover reflections;  // Alg. 3
   MapperStats stats;
   double last_tick_stamp = 0.0;  // persistence ticks follow the scans' clock
   bool tick_due = false;         // the last scan made a tick due; runDueTick runs it
@@ -228,9 +228,11 @@ MotionRemovalSummary Mapper::removeMotion() {
   runDueTick();               // the anchors as the last scan left them
   impl_->reflections.thaw();  // the glass check reads the field again
   MotionRemovalSummary summary;
-  classifyRegion(summary);
-  const CellBox new_glass = impl_->classes.replace(impl_->region, impl_->runner.get());
-  writeRegionToMap();
+  static_cast<MotionRemovalCounts&>(summary) =
+      impl_->classifier.classify(field_, impl_->anchor_history, map_, impl_->runner.get());
+  const RegionClassifier& classifier = impl_->classifier;
+  const CellBox new_glass = impl_->classes.replace(classifier.region(), impl_->runner.get());
+  classifier.writeTo(field_.window(), map_);
   summary.new_glass = !new_glass.empty();
   if (summary.new_glass && options_.reflection_removal.reflection_removal_enabled) {
     impl_->reflections.revertBehindGlass(new_glass, impl_->inserter, field_);
@@ -238,78 +240,11 @@ MotionRemovalSummary Mapper::removeMotion() {
   summary.elapsed_ms = millisecondsSince(start);
   MapperStats& stats = impl_->stats;
   stats.last_motion_removal_ms = summary.elapsed_ms;
+  stats.free_cells = summary.free_cells;
   stats.occupied_cells = summary.static_cells + summary.glass_cells + summary.metal_cells;
   stats.glass_cells = summary.glass_cells + summary.metal_cells;
   stats.motion_cells = summary.motion_cells;
   return summary;
-}
-
-void Mapper::classifyRegion(MotionRemovalSummary& summary) {
-  ClassifiedRegion& region = impl_->region;
-  region.box = field_.activeBox();
-  const bool removes_motion = options_.motion_removal.motion_removal_enabled;
-  if (removes_motion) {
-    static_cast<MotionRemovalCounts&>(summary) = impl_->motion.classify(
-        field_, impl_->anchor_history, region.box,
-        [this](const CellIndex& cell) { return map_.get(cell); }, region.classes,
-        impl_->runner.get());
-  } else {
-    // Plain eq. 5 projection: occupied, free or unknown.
-    region.classes.resize(static_cast<size_t>(region.box.width()) * region.box.height());
-    size_t i = 0;
-    field_.window().forEachCell(region.box, [&](int, int, int slot) {
-      const CellClass c =
-          impl_->rule.classify(field_.reflectiveBinsAt(slot), field_.missedBinsAt(slot));
-      region.classes[i++] = c;
-      summary.free_cells += c == CellClass::kFree;
-      summary.static_cells += c == CellClass::kOccupied;
-    });
-  }
-  impl_->stats.free_cells = summary.free_cells;
-
-  // Glass the robot has not faced yet, on the lines of glass it has. These cells change class
-  // with no change of evidence, so their tiles (and last time's) are not unchanged.
-  const RollingWindow& window = field_.window();
-  const CellBox& box = region.box;
-  std::vector<TileIndex> completed_tiles;
-  for (int i : impl_->completion.complete(field_, box, region.classes)) {
-    completed_tiles.push_back(
-        window.tileOf({box.min.x() + i % box.width(), box.min.y() + i / box.width()}));
-    ++summary.glass_cells;
-  }
-  region.unchanged_tiles.clear();
-  if (removes_motion) {
-    // Tiles that motion removal copied from its last run, unless glass was completed there.
-    region.unchanged_tiles.assign(window.storageTiles(), 0);
-    for (const TileIndex& tile : window.tiles()) {
-      region.unchanged_tiles[window.storageTile(tile)] =
-          impl_->motion.reusedTile(window.tileBox(tile).min);
-    }
-    for (const auto* tiles : {&completed_tiles, &impl_->completed_tiles}) {
-      for (const TileIndex& tile : *tiles) {
-        if (window.contains(window.tileBox(tile).min)) {
-          region.unchanged_tiles[window.storageTile(tile)] = 0;
-        }
-      }
-    }
-  }
-  impl_->completed_tiles = std::move(completed_tiles);
-}
-
-void Mapper::writeRegionToMap() {
-  const ClassifiedRegion& region = impl_->region;
-  auto class_at = [&region](const CellIndex& cell) { return region.at(cell); };
-  if (region.unchanged_tiles.empty()) {
-    map_.assign(region.box, class_at);
-    return;
-  }
-  // Unchanged tiles hold what the map got last time.
-  const RollingWindow& window = field_.window();
-  for (const TileIndex& tile : window.tiles()) {
-    if (!region.unchanged_tiles[window.storageTile(tile)]) {
-      map_.assign(window.tileBox(tile), class_at);
-    }
-  }
 }
 
 std::vector<RayLabel> Mapper::labelScan(const TimedScan& scan, bool final_map) const {
@@ -360,7 +295,7 @@ void Mapper::forgetDerivedState() {
   impl_->anchor_history.clear();
   impl_->tick_due = false;
   impl_->classes.clear();
-  impl_->completed_tiles.clear();
+  impl_->classifier.clear();
 }
 
 void Mapper::reset() {

@@ -164,10 +164,6 @@ class Mapper {
   void countScan(double stamp);
   void keepInsertedRays(const TimedScan& scan, const std::vector<Ray>& rays);
   bool tickDue(double stamp) const;
-  // The steps of removeMotion: the region's classes (motion removal or the plain eq. 5
-  // projection, then glass completion), and their copy into the global map.
-  void classifyRegion(MotionRemovalSummary& summary);
-  void writeRegionToMap();
   // What reset() and load() start afresh besides the field and the map.
   void forgetDerivedState();
   // labelScan of a scan already validated.
