@@ -1,5 +1,6 @@
 #include "reflectance_field_map/core/batch_processor.h"
 
+#include "reflectance_field_map/core/detail/glass_passes.h"
 #include "reflectance_field_map/core/parallel_runner.h"
 #include "reflectance_field_map/core/plain_occupancy_grid.h"
 #include "reflectance_field_map/core/ray_insertion.h"
@@ -9,7 +10,6 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <set>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -82,8 +82,8 @@ Extent recordingExtent(const std::vector<TimedScan>& scans, const MapperOptions&
 }
 
 // Cells that block rays (glass, metal, static) in the map, for convergence tests.
-std::set<std::pair<int, int>> blockingCells(const GlobalMap2D& map) {
-  std::set<std::pair<int, int>> cells;
+detail::GlassCells blockingCells(const GlobalMap2D& map) {
+  detail::GlassCells cells;
   const CellBox box = map.bounds();
   std::vector<CellClass> classes;
   map.extract(box, classes);
@@ -94,14 +94,6 @@ std::set<std::pair<int, int>> blockingCells(const GlobalMap2D& map) {
     }
   }
   return cells;
-}
-
-size_t symmetricDifference(const std::set<std::pair<int, int>>& a,
-                           const std::set<std::pair<int, int>>& b) {
-  size_t common = 0;
-  for (const auto& cell : a)
-    common += b.count(cell);
-  return a.size() + b.size() - 2 * common;
 }
 
 BatchResult processPlainGrid(const std::vector<TimedScan>& scans, MapperOptions options,
@@ -207,7 +199,7 @@ BatchResult processBatch(const std::vector<TimedScan>& scans, const MapperOption
   for (int pass = 0; pass < passes; ++pass)
     total_steps += scans_by_pass[pass].size();
   size_t done = 0;
-  std::vector<std::set<std::pair<int, int>>> history;
+  detail::GlassPasses glass_passes;
   bool settled = false;  // a pass of fewer scans converged: the last pass follows at once
   for (int pass = 0; pass < passes; ++pass) {
     const std::vector<const TimedScan*>& inserted = scans_by_pass[pass];
@@ -228,22 +220,14 @@ BatchResult processBatch(const std::vector<TimedScan>& scans, const MapperOption
     if (passes == 1) break;
     ++result.timings.reflection_iterations;
 
-    // Alg. 3 iterates until the glass found stops changing. Two panes facing each other can
-    // make it alternate (each pass erases the other pane); a repeated state ends the loop.
-    std::set<std::pair<int, int>> glass = blockingCells(mapper.map());
-    // Converged when under 1 % of the glass changed: the paper sees no meaningful difference
-    // after the first re-processing, and a few cells may flicker forever.
-    const bool converged =
-        !history.empty() && symmetricDifference(glass, history.back()) * 100 <= glass.size();
-    const bool cycle =
-        !converged && std::find(history.begin(), history.end(), glass) != history.end();
-    history.push_back(std::move(glass));
+    const detail::GlassPassOutcome outcome = glass_passes.add(blockingCells(mapper.map()));
+    const bool converged = outcome == detail::GlassPassOutcome::kConverged;
     if (pass + 1 == passes) {
       // Compared with a pass of fewer scans that had already settled, the glass says nothing new.
       if (!settled) result.timings.reflection_converged = converged;
       break;
     }
-    if (!converged && !cycle) continue;
+    if (outcome == detail::GlassPassOutcome::kChanged) continue;
     result.timings.reflection_converged = converged;
     // A pass that took every scan is final; after one that took fewer, the last pass follows.
     if (stride_of(pass) == 1) break;

@@ -1,5 +1,7 @@
 #include "reflectance_field_map/core/batch_processor.h"
 
+#include "reflectance_field_map/core/detail/glass_passes.h"
+
 #include "scenario.h"
 
 #include <gtest/gtest.h>
@@ -179,7 +181,33 @@ TEST(BatchProcessor, SearchPassesInsertEveryNthScanAndTheLastEveryScan) {
   }
 }
 
-// Two parallel panes: the paper reports Alg. 3 may not converge. It must end, keeping both.
+// A row of `count` glass cells at y, from x.
+detail::GlassCells glassRow(int x, int y, int count) {
+  detail::GlassCells cells;
+  for (int i = 0; i < count; ++i)
+    cells.insert({x + i, y});
+  return cells;
+}
+
+TEST(GlassPasses, UnderOnePercentChangedSinceThePassBeforeIsConverged) {
+  detail::GlassPasses passes;
+  EXPECT_EQ(passes.add(glassRow(0, 0, 200)), detail::GlassPassOutcome::kChanged);  // the first
+  // Two cells of 200 more: 1 %.
+  EXPECT_EQ(passes.add(glassRow(0, 0, 202)), detail::GlassPassOutcome::kConverged);
+  // Three of 205 more, 1.5 %.
+  EXPECT_EQ(passes.add(glassRow(0, 0, 205)), detail::GlassPassOutcome::kChanged);
+}
+
+TEST(GlassPasses, AStateSeenBeforeEndsAnAlternation) {
+  detail::GlassPasses passes;
+  const detail::GlassCells near_pane = glassRow(0, 0, 100), far_pane = glassRow(0, 30, 100);
+  EXPECT_EQ(passes.add(near_pane), detail::GlassPassOutcome::kChanged);
+  EXPECT_EQ(passes.add(far_pane), detail::GlassPassOutcome::kChanged);
+  EXPECT_EQ(passes.add(near_pane), detail::GlassPassOutcome::kCycle);
+}
+
+// Two parallel panes: the paper reports Alg. 3 may not converge. It must end, keeping both
+// (the stop rule itself: GlassPasses above).
 TEST(BatchProcessor, TwoParallelPanesTerminateWithBothKept) {
   SyntheticWorld world;
   world.addFramedPane({2.0, -3.0}, {2.0, 3.0});
