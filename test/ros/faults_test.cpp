@@ -267,7 +267,7 @@ TEST(Faults, ASilentLidarIsReportedAndRecovers) {
 }
 
 // One scan stamped 5 s before the previous one on its topic: dropped and counted as stale, the
-// map kept (it used to reset the map and call it a time jump).
+// map kept (a time jump, which resets the map, is ROS time going back, not one late scan).
 TEST(Faults, AStaleScanIsDroppedAndTheMapKept) {
   pauseAndSettle();
   const int empty_maps = node->empty_maps;
@@ -391,8 +391,8 @@ TEST(Faults, ACorruptedStateIsRefusedAndTheMapUntouched) {
   EXPECT_TRUE(mapsOn());
 }
 
-// A state whose checksum is right but whose map spans 3.2 km (two tiles 1000 tiles apart: it
-// used to take the node's memory and abort it) is refused by max_map_extent before it replaces
+// A state whose checksum is right but whose map spans 3.2 km (two tiles 1000 tiles apart: its
+// window would take the node's memory) is refused by max_map_extent before it replaces
 // anything.
 TEST(Faults, AStateBeyondTheMapExtentLimitIsRefused) {
   ros::NodeHandle nh;

@@ -83,9 +83,9 @@ class alignas(64) DeduplicatingRayInserter {
   void prepare(size_t slots);
   uint16_t nextStamp();
 
-  // Two bytes per slot: the stamps are cleared every 65535 groups. With one byte they were
-  // cleared every 255 groups (about two scans): for the batch's window of the whole recording
-  // (590 k slots on curved glass), 3 % of its instructions.
+  // Two bytes per slot: the stamps are cleared every 65535 groups. One byte would clear them
+  // every 255 groups (about two scans): for the batch's window of the whole recording (590 k
+  // slots on curved glass), 3 % of its instructions.
   std::vector<uint16_t> stamps_;
   uint16_t stamp_ = 0;
   size_t updates_ = 0;
