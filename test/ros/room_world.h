@@ -105,6 +105,7 @@ class RoomWorld {
     tf2_msgs::TFMessage odom;
     odom.transforms.push_back(makeTransform("odom", "base_link", x_, 0.0, 0.0, stamp));
     tf_pub_.publish(odom);
+    odometry_stamp_ = stamp;
   }
   ros::Time lastStamp() {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -115,9 +116,9 @@ class RoomWorld {
   void tick() {
     std::lock_guard<std::mutex> lock(mutex_);
     const ros::Time now = clock_();
-    if (now == last_stamp_)
-      return;  // the clock has not moved since the last tick  // the clock has not moved since the
-               // last tick
+    // The clock has not moved since the last tick, or odometry holds this stamp already (tf2
+    // would ignore a second transform at it, and the tick's scans would take the first).
+    if (now == last_stamp_ || now == odometry_stamp_) return;
     // After the clock jumps back the robot carries on from where it is, and odometry held back
     // for later is forgotten.
     if (now < last_stamp_) pending_tf_.clear();
@@ -168,6 +169,7 @@ class RoomWorld {
   std::atomic<bool> running_{false};
   std::mutex mutex_;
   ros::Time last_stamp_;
+  ros::Time odometry_stamp_;  // publishOdometry's last
   double x_ = 0.0;
   double direction_ = 1.0;
   uint32_t front_seq_ = 0, rear_seq_ = 0;
