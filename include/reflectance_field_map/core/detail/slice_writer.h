@@ -34,6 +34,8 @@ class SliceWriter {
   RFM_ALWAYS_INLINE void miss(int slot) {
     int8_t& v = bins_[slot];
     const int old = v;
+    // Most misses fall on free space already at the floor: nothing changes, nothing to store.
+    if (old <= min_) return;
     const int updated = old + miss_step_ < min_ ? min_ : old + miss_step_;
     // A bin becoming confidently missed: the cell may now be seen free (AnchorHistory::tick).
     // Tested before the store, which may alias the members.
