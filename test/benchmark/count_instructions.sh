@@ -41,11 +41,11 @@ count() {
 export -f count
 export scratch
 
-jobs=()
+runs=()
 for i in "${!benchmarks[@]}"; do
-  jobs+=("$a ${benchmarks[$i]} a$i" "$a ${benchmarks[$i]} a2_$i" "$b ${benchmarks[$i]} b$i")
+  runs+=("$a ${benchmarks[$i]} a$i" "$a ${benchmarks[$i]} a2_$i" "$b ${benchmarks[$i]} b$i")
 done
-printf '%s\n' "${jobs[@]}" | xargs -P "${JOBS:-2}" -L 1 bash -c 'count "$0" "$1" "$2"'
+printf '%s\n' "${runs[@]}" | xargs -P "${JOBS:-2}" -L 1 bash -c 'count "$0" "$1" "$2"'
 
 printf '%-40s %15s %15s %8s %8s\n' benchmark A B B/A A/A
 for i in "${!benchmarks[@]}"; do
