@@ -232,24 +232,6 @@ void ReflectanceField::rebuildSummaries(const TileIndex& tile) {
   ++tile_versions_[storage_tile];
 }
 
-void ReflectanceField::rebuildCellSummary(int storage_index) {
-  uint64_t* mask = &reflective_masks_[static_cast<size_t>(storage_index) * mask_words_];
-  std::fill(mask, mask + mask_words_, 0);
-  uint16_t missed = 0, reflective = 0;
-  for (int bin = 0; bin < theta_bins_; ++bin) {
-    const int8_t v = bins_[bin * plane_ + storage_index];
-    if (v > 0) mask[bin >> 6] |= uint64_t{1} << (bin & 63);
-    reflective += v > 0;
-    missed += v < 0;
-  }
-  missed_bins_[storage_index] = missed;
-  const int tile = storage_index >> window_.tileSlotShift();
-  tile_reflective_cells_[tile] += (reflective != 0) - (reflective_bins_[storage_index] != 0);
-  reflective_bins_[storage_index] = reflective;
-  tick_pending_[tile] = 1;
-  ++tile_versions_[tile];
-}
-
 void ReflectanceField::applySummaryChanges(std::vector<DeferredSummaries>& writers,
                                            ParallelRunner* runner) {
   if (writers.empty()) return;
@@ -304,8 +286,22 @@ void ReflectanceField::revertAt(int storage_index, int bin, int step) {
   // Never cross (or leave) the prior: that would turn "seen empty" into "seen reflective".
   const int updated = v < 0 ? std::min(shifted, 0) : (v > 0 ? std::max(shifted, 0) : 0);
   if (updated == v) return;
+  const int old = v;
   v = static_cast<int8_t>(updated);
-  rebuildCellSummary(storage_index);
+  // Every change marks the tile for the persistence tick and bumps its version: readers of
+  // both look at the bins' values, not only at the summaries. Those change only when the bin
+  // reaches the prior: reflective, or missed, in one bin fewer.
+  const int tile = storage_index >> window_.tileSlotShift();
+  tick_pending_[tile] = 1;
+  ++tile_versions_[tile];
+  if (updated != 0) return;
+  if (old < 0) {
+    --missed_bins_[storage_index];
+    return;
+  }
+  reflective_masks_[static_cast<size_t>(storage_index) * mask_words_ + (bin >> 6)] &=
+      ~(uint64_t{1} << (bin & 63));
+  if (--reflective_bins_[storage_index] == 0) --tile_reflective_cells_[tile];
 }
 
 void ReflectanceField::write(std::ostream& out) const {

@@ -363,8 +363,8 @@ TEST(ReflectanceField, LeaveAndReturnRestoresEvidenceBitForBit) {
 }
 
 // Motion removal trusts the per-tile counts and versions to skip and reuse tiles: the counts
-// must match the cells through updates, reverts and scrolling, and every change to a cell's
-// summaries must change its tile's version.
+// must match the cells through updates, reverts and scrolling, every change to a cell's
+// summaries must change its tile's version, and a cell's summaries must be those of its bins.
 TEST(ReflectanceField, TileCountsAndVersionsFollowTheSummaries) {
   ReflectanceField field = makeField(3.0);
   const RollingWindow& window = field.window();
@@ -402,9 +402,23 @@ TEST(ReflectanceField, TileCountsAndVersionsFollowTheSummaries) {
         case 1:
           field.revertHitAt(slot, bin(rng));
           break;
+        case 2:
+          field.revertMissAt(slot, bin(rng));
+          break;
         default:
-          field.applyMiss(cell, bin(rng));
+          for (int k = 0; k < 3; ++k)
+            field.applyMiss(cell, bin(rng));
       }
+      // The cell's summaries are those of its bins (reverts update them incrementally).
+      int reflective_bins = 0, missed_bins = 0;
+      for (int b = 0; b < field.geometry().thetaBins(); ++b) {
+        const int v = field.value(cell, b);
+        ASSERT_EQ(field.isReflective(cell, b), v > 0) << b;
+        reflective_bins += v > 0;
+        missed_bins += v < 0;
+      }
+      ASSERT_EQ(field.reflectiveBinsAt(slot), reflective_bins);
+      ASSERT_EQ(field.missedBinsAt(slot), missed_bins);
       const bool changed =
           field.reflectiveBinsAt(slot) != reflective || field.missedBinsAt(slot) != missed;
       if (changed) {

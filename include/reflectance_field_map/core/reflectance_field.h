@@ -265,7 +265,6 @@ class ReflectanceField {
   void clearTileStorage(const TileIndex& tile, bool bins_too);
   // Recomputes the summaries of a tile just restored into storage (cleared before).
   void rebuildSummaries(const TileIndex& tile);
-  void rebuildCellSummary(int storage_index);
   void gatherTile(const TileIndex& tile, std::vector<int8_t>& bins) const;
   void scatterTile(const TileIndex& tile, const std::vector<int8_t>& bins);
 
