@@ -37,6 +37,11 @@ count() {
   valgrind --tool=callgrind --callgrind-out-file=/dev/null "$binary" \
     --benchmark_filter="^${benchmark}\$" --benchmark_min_time=0 > /dev/null 2> "$scratch/$tag.err"
   sed -n 's/.*Collected : \([0-9]*\).*/\1/p' "$scratch/$tag.err" > "$scratch/$tag"
+  if [[ ! -s "$scratch/$tag" ]]; then
+    echo "count_instructions.sh: no count for $benchmark in $binary:" >&2
+    tail -5 "$scratch/$tag.err" >&2
+    return 1
+  fi
 }
 export -f count
 export scratch
