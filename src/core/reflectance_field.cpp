@@ -288,20 +288,13 @@ void ReflectanceField::revertAt(int storage_index, int bin, int step) {
   if (updated == v) return;
   const int old = v;
   v = static_cast<int8_t>(updated);
-  // Every change marks the tile for the persistence tick and bumps its version: readers of
-  // both look at the bins' values, not only at the summaries. Those change only when the bin
-  // reaches the prior: reflective, or missed, in one bin fewer.
+  // Every change marks the tile for the persistence tick and moves its version: readers of both
+  // look at the bins' values, not only at the summaries. Those change only when the bin reaches
+  // the prior: reflective, or missed, in one bin fewer.
   const int tile = storage_index >> window_.tileSlotShift();
   tick_pending_[tile] = 1;
   ++tile_versions_[tile];
-  if (updated != 0) return;
-  if (old < 0) {
-    --missed_bins_[storage_index];
-    return;
-  }
-  reflective_masks_[static_cast<size_t>(storage_index) * mask_words_ + (bin >> 6)] &=
-      ~(uint64_t{1} << (bin & 63));
-  if (--reflective_bins_[storage_index] == 0) --tile_reflective_cells_[tile];
+  if (updated == 0) applySummaryChange(storage_index, bin, old > 0 ? -1 : 0, old < 0 ? -1 : 0);
 }
 
 void ReflectanceField::write(std::ostream& out) const {
