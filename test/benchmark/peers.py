@@ -9,7 +9,8 @@ import subprocess
 import sys
 
 RECORDINGS = ["freiburg-079", "freiburg-campus", "atrium"]
-MAPPERS = ["RFM (all stages)", "plain grid", "OctoMap (planar slice)"]
+MAPPERS = ["RFM (all stages)", "plain grid", "OctoMap (planar slice)", "MRPT 2D grid"]
+PEER_BINARIES = {MAPPERS[2]: "rfm_octomap_peer", MAPPERS[3]: "rfm_mrpt_peer"}
 
 
 def run(command):
@@ -33,8 +34,9 @@ def offline(binaries, out, bag, topics, baseline):
     return summary["scans"]["total"], summary["timing"]["stages_s"]["process"], peak_mb
 
 
-def octomap(binaries, bag, topics):
-    output, peak_mb = run([os.path.join(binaries, "rfm_octomap_peer"), bag, topics])
+def peer(binary, bag, topics):
+    """A peer program (rfm_octomap_peer, rfm_mrpt_peer): its JSON line's scans and seconds."""
+    output, peak_mb = run([binary, bag, topics])
     result = json.loads(output)
     return result["scans"], result["process_seconds"], peak_mb
 
@@ -49,14 +51,19 @@ def scan_topics(bag):
 
 def main():
     out, rounds, binaries = sys.argv[1], int(sys.argv[2]), sys.argv[3]
+    mappers = [m for m in MAPPERS
+               if m not in PEER_BINARIES or os.path.exists(os.path.join(binaries, PEER_BINARIES[m]))]
+    for missing in sorted(set(MAPPERS) - set(mappers)):
+        print("%s left out: %s is not built" % (missing, PEER_BINARIES[missing]), file=sys.stderr)
     samples = {}  # (recording, mapper) -> [(scans per s, peak MB)]
     for _ in range(rounds):
         for name in RECORDINGS:
             bag = os.path.join(out, name + ".bag")
             topics = scan_topics(bag)
-            for mapper in MAPPERS:
-                if mapper == MAPPERS[2]:
-                    scans, seconds, peak = octomap(binaries, bag, topics)
+            for mapper in mappers:
+                if mapper in PEER_BINARIES:
+                    scans, seconds, peak = peer(os.path.join(binaries, PEER_BINARIES[mapper]),
+                                                bag, topics)
                 else:
                     scans, seconds, peak = offline(binaries, out, bag, topics,
                                                    mapper == MAPPERS[1])
@@ -68,7 +75,7 @@ def main():
     print("|---|---|---:|---:|---:|---:|")
     for name in RECORDINGS:
         rfm_rows = samples[(name, MAPPERS[0])]
-        for mapper in MAPPERS:
+        for mapper in mappers:
             rows = samples[(name, mapper)]
             # The ratio round by round (runs side by side), then its median.
             ratio = statistics.median(row[0] / rfm[0] for row, rfm in zip(rows, rfm_rows))

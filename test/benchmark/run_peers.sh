@@ -1,12 +1,15 @@
 #!/usr/bin/env bash
 # Peers side by side on the same rays: the RFM with every stage (rfm_offline), the plain
-# occupancy grid (rfm_offline --baseline) and OctoMap inserting the same rays as a planar slice
-# at the same resolution (rfm_octomap_peer), on Freiburg 079 and the Freiburg campus
-# (rfm_carmen2bag of ../shared/data/real) and on the shipped atrium scene (rfm_sim). The three
+# occupancy grid (rfm_offline --baseline), OctoMap inserting the same rays as a planar slice
+# at the same resolution (rfm_octomap_peer) and MRPT's 2D occupancy grid inserting the same
+# beams (rfm_mrpt_peer), on Freiburg 079 and the Freiburg campus
+# (rfm_carmen2bag of ../shared/data/real) and on the shipped atrium scene (rfm_sim). The four
 # run one after the other on each recording, ROUNDS rounds; per mapper the medians of: scans
 # mapped per second of its mapping (bag reading and output writing left out: the same reader
-# serves all three) and its process's peak resident memory (the scans it holds included, for all
-# three alike). Prints a markdown table. Run on a quiet machine, after scripts/build.sh.
+# serves all four) and its process's peak resident memory (the scans it holds included, for all
+# four alike). Prints a markdown table. Run on a quiet machine, as root: it installs MRPT's
+# libmrpt-maps-dev (not a dependency of the package; RFM_SKIP_INSTALL=1 skips the installs, and a
+# mapper whose program is not built is left out) and builds.
 #
 #   test/benchmark/run_peers.sh              # OUT (default /tmp/rfm_peers), ROUNDS (default 3)
 set -euo pipefail
@@ -15,6 +18,11 @@ source "$here/../../scripts/workspace.sh"
 OUT="${OUT:-/tmp/rfm_peers}"
 ROUNDS="${ROUNDS:-3}"
 DATA="$rfm_source_dir/../shared/data/real"
+if [ "${RFM_SKIP_INSTALL:-0}" != 1 ]; then
+  bash "$rfm_source_dir/scripts/install_deps.sh"
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends libmrpt-maps-dev
+fi
+bash "$rfm_source_dir/scripts/build.sh" >&2  # stdout: the table
 rfm_activate
 mkdir -p "$OUT"
 for log in freiburg-079 freiburg-campus; do
