@@ -18,6 +18,9 @@
 #   SEEDS    random checking seeds (default: "1001 1002"; empty: none)
 #   SETUPS   sensor setups for the seeds (default: every name rfm_sim --list-setups prints)
 #   ROUNDS   runs per bag and mode (default: 5)
+#   MODES    the runs on each bag, in order (default: "full plain"); add "no_alg3"
+#            (--no-reflection-removal: Alg. 1 and 2 without Alg. 3's passes) to show what the
+#            full RFM's passes cost over the plain grid
 #   PARAMS   optional rfm_offline --params file
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/workspace.sh"
@@ -25,6 +28,15 @@ REPO="$rfm_source_dir"
 OUT="${OUT:-/tmp/rfm_eval}"
 ROUNDS="${ROUNDS:-5}"
 SEEDS="${SEEDS-1001 1002}"
+MODES="${MODES:-full plain}"
+for mode in $MODES; do
+  case "$mode" in
+    full | plain | no_alg3) ;;
+    *) echo "run_throughput.sh: MODES holds '$mode'; allowed: full, plain, no_alg3" >&2; exit 2 ;;
+  esac
+done
+[[ " $MODES " == *" full "* && " $MODES " == *" plain "* ]] ||
+  { echo "run_throughput.sh: MODES must hold full and plain" >&2; exit 2; }
 
 if [[ ! -f "$rfm_ws/devel/setup.bash" ]]; then
   echo "run_throughput.sh: $rfm_ws/devel/setup.bash not found; build the workspace or set RFM_WS" >&2
@@ -85,11 +97,12 @@ TIMES="$OUT/throughput.txt"  # one line per run: bag name, mode, real-time facto
 : > "$TIMES"
 for round in $(seq "$ROUNDS"); do
   for i in "${!bags[@]}"; do
-    for mode in full plain; do
+    for mode in $MODES; do
       dir="$OUT/throughput/${names[$i]}_$mode"
       rm -rf "$dir"
       mode_flags=()
       [[ "$mode" == plain ]] && mode_flags=(--baseline)
+      [[ "$mode" == no_alg3 ]] && mode_flags=(--no-reflection-removal)
       rosrun reflectance_field_map rfm_offline --bag "${bags[$i]}" --out "$dir" \
         --scan-topics "${topics[$i]}" ${flags[@]+"${flags[@]}"} ${mode_flags[@]+"${mode_flags[@]}"} > /dev/null 2>&1 ||
         { echo "run_throughput.sh: rfm_offline failed on ${bags[$i]} ($mode)" >&2; exit 1; }
@@ -99,28 +112,37 @@ timing = json.load(open(sys.argv[3]))["timing"]
 print(sys.argv[1], sys.argv[2], timing["real_time_factor"], timing["wall_s"])' \
         "${names[$i]}" "$mode" "$dir/summary.json" >> "$TIMES"
     done
-    echo "== round $round/$ROUNDS: $(tail -n 2 "$TIMES" | tr '\n' ' ')" >&2
+    echo "== round $round/$ROUNDS: $(tail -n "$(wc -w <<< "$MODES")" "$TIMES" | tr '\n' ' ')" >&2
   done
 done
 
 python3 - "$TIMES" "$ROUNDS" "$(git -C "$REPO" rev-parse --short HEAD 2>/dev/null || echo unknown)" <<'PY'
 import collections, statistics, sys
-factors = collections.OrderedDict()
+factors = collections.OrderedDict()  # name -> mode -> [real-time factor]
 walls = collections.defaultdict(list)
 for line in open(sys.argv[1]):
     name, mode, factor, wall = line.split()
-    factors.setdefault(name, {"full": [], "plain": []})[mode].append(float(factor))
+    factors.setdefault(name, collections.OrderedDict()).setdefault(mode, []).append(float(factor))
     walls[name, mode].append(float(wall))
+extra = "no_alg3" in next(iter(factors.values()))
 print(f"rfm_offline, commit {sys.argv[3]}, {sys.argv[2]} rounds, times real time "
       "(median of the rounds) and the full RFM's wall time over the plain grid's (median of "
       "the per-round ratios):")
 print()
-print("| bag | full RFM | plain grid | full / plain | >= 50x | <= 1.5x |")
-print("|---|---:|---:|---:|:---:|:---:|")
+header, rule = "| bag | full RFM | plain grid | full / plain |", "|---|---:|---:|---:|"
+if extra:
+    header += " without Alg. 3 | without Alg. 3 / plain |"
+    rule += "---:|---:|"
+print(header + " >= 50x | <= 1.5x |")
+print(rule + ":---:|:---:|")
+def ratio(name, mode):  # median of the per-round ratios of the wall times, mode over plain
+    return statistics.median(a / b for a, b in zip(walls[name, mode], walls[name, "plain"]))
 for name, modes in factors.items():
     full = statistics.median(modes["full"])
     plain = statistics.median(modes["plain"])
-    ratio = statistics.median(a / b for a, b in zip(walls[name, "full"], walls[name, "plain"]))
-    print(f"| {name} | {full:.1f}x | {plain:.1f}x | {ratio:.2f} | "
-          f"{'yes' if full >= 50.0 else 'no'} | {'yes' if ratio <= 1.5 else 'no'} |")
+    row = f"| {name} | {full:.1f}x | {plain:.1f}x | {ratio(name, 'full'):.2f} |"
+    if extra:
+        row += f" {statistics.median(modes['no_alg3']):.1f}x | {ratio(name, 'no_alg3'):.2f} |"
+    print(row + f" {'yes' if full >= 50.0 else 'no'} | "
+          f"{'yes' if ratio(name, 'full') <= 1.5 else 'no'} |")
 PY

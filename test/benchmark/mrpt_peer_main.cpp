@@ -10,6 +10,7 @@
 // does that for a valid range at its maxDistanceInsertion, so such beams go in a second
 // observation of the scan with that distance set to the stretch. Prints one JSON line: scans,
 // rays, the insertion's seconds and the grid's size.
+#include "peer_input.h"
 #include "reflectance_field_map/core/laser_scan.h"
 #include "reflectance_field_map/core/options.h"
 #include "reflectance_field_map/offline/bag_input.h"
@@ -24,7 +25,6 @@
 #include <exception>
 #include <iostream>
 #include <limits>
-#include <sstream>
 #include <string>
 
 namespace {
@@ -49,21 +49,13 @@ size_t fillObservation(const rfm::LaserScan2D& scan, rfm::BeamReading wanted, fl
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 3 && argc != 5) {
-    std::cerr << "usage: rfm_mrpt_peer IN.bag TOPIC[,TOPIC...] [FIXED_FRAME BASE_FRAME]\n";
+  const auto input_options = rfm::benchmark::peerInputOptions(argc, argv);
+  if (!input_options) {
+    std::cerr << "usage: rfm_mrpt_peer " << rfm::benchmark::peerUsage() << "\n";
     return 2;
   }
   try {
-    rfm::offline::BagInputOptions input_options;
-    input_options.bag = argv[1];
-    std::stringstream topics(argv[2]);
-    for (std::string topic; std::getline(topics, topic, ',');)
-      input_options.scan_topics.push_back(topic);
-    if (argc == 5) {
-      input_options.fixed_frame = argv[3];
-      input_options.base_frame = argv[4];
-    }
-    const rfm::offline::BagScans input = rfm::offline::readBagScans(input_options);
+    const rfm::offline::BagScans input = rfm::offline::readBagScans(*input_options);
 
     const rfm::MapperOptions defaults;
     const auto resolution = static_cast<float>(defaults.grid.resolution);

@@ -8,6 +8,7 @@
 // cleared stretch for a beam without one). Each ray's cells along z = 0 get a miss and its end
 // cell a hit, as OcTree::insertRay does, at 5 cm; inner nodes are updated once at the end. Prints
 // one JSON line: scans, rays, the insertion's seconds and the tree's size.
+#include "peer_input.h"
 #include "reflectance_field_map/core/laser_scan.h"
 #include "reflectance_field_map/core/options.h"
 #include "reflectance_field_map/offline/bag_input.h"
@@ -18,26 +19,17 @@
 #include <cstdio>
 #include <exception>
 #include <iostream>
-#include <sstream>
 #include <string>
 #include <vector>
 
 int main(int argc, char** argv) {
-  if (argc != 3 && argc != 5) {
-    std::cerr << "usage: rfm_octomap_peer IN.bag TOPIC[,TOPIC...] [FIXED_FRAME BASE_FRAME]\n";
+  const auto input_options = rfm::benchmark::peerInputOptions(argc, argv);
+  if (!input_options) {
+    std::cerr << "usage: rfm_octomap_peer " << rfm::benchmark::peerUsage() << "\n";
     return 2;
   }
   try {
-    rfm::offline::BagInputOptions input_options;
-    input_options.bag = argv[1];
-    std::stringstream topics(argv[2]);
-    for (std::string topic; std::getline(topics, topic, ',');)
-      input_options.scan_topics.push_back(topic);
-    if (argc == 5) {
-      input_options.fixed_frame = argv[3];
-      input_options.base_frame = argv[4];
-    }
-    const rfm::offline::BagScans input = rfm::offline::readBagScans(input_options);
+    const rfm::offline::BagScans input = rfm::offline::readBagScans(*input_options);
 
     const rfm::MapperOptions defaults;
     const double resolution = defaults.grid.resolution;

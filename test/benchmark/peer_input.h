@@ -1,0 +1,33 @@
+// The command line the peer programs share (rfm_octomap_peer, rfm_mrpt_peer):
+//   PROGRAM IN.bag TOPIC[,TOPIC...] [FIXED_FRAME BASE_FRAME]
+// and the scans it names, read by rfm_offline's own reader.
+#pragma once
+
+#include "reflectance_field_map/offline/bag_input.h"
+
+#include <optional>
+#include <sstream>
+#include <string>
+
+namespace rfm::benchmark {
+
+// The reader's options from the arguments, or nothing when they do not fit the usage.
+inline std::optional<offline::BagInputOptions> peerInputOptions(int argc, char** argv) {
+  if (argc != 3 && argc != 5) return std::nullopt;
+  offline::BagInputOptions options;
+  options.bag = argv[1];
+  std::stringstream topics(argv[2]);
+  for (std::string topic; std::getline(topics, topic, ',');)
+    options.scan_topics.push_back(topic);
+  if (argc == 5) {
+    options.fixed_frame = argv[3];
+    options.base_frame = argv[4];
+  }
+  return options;
+}
+
+inline const char* peerUsage() {
+  return "IN.bag TOPIC[,TOPIC...] [FIXED_FRAME BASE_FRAME]";
+}
+
+}  // namespace rfm::benchmark
