@@ -1,6 +1,6 @@
 // The command line the peer programs share (rfm_octomap_peer, rfm_mrpt_peer):
 //   PROGRAM IN.bag TOPIC[,TOPIC...] [FIXED_FRAME BASE_FRAME]
-// and the scans it names, read by rfm_offline's own reader.
+// turned into the options of rfm_offline's own reader for the scans it names.
 #pragma once
 
 #include "reflectance_field_map/offline/bag_input.h"
