@@ -72,7 +72,8 @@ struct Mapper::Impl {
   bool tick_due = false;         // the last scan made a tick due; runDueTick runs it
   std::optional<Eigen::Vector2d> held_centre;
   std::vector<Ray> rays;
-  std::vector<std::vector<Ray>> pending;  // addScans: prepared, not yet inserted
+  std::vector<std::vector<Ray>> pending;                 // addScans: prepared, not yet inserted
+  std::chrono::steady_clock::time_point last_scan_done;  // addScan's last return
 };
 
 Mapper::Mapper(const MapperOptions& options, const MapperLayout& layout)
@@ -92,16 +93,29 @@ CellClass Mapper::cellClass(const CellIndex& cell) const {
 }
 
 ScanUpdate Mapper::addScan(const TimedScan& scan) {
+  // A scan that follows the last one within the helpers' spin (a batch, a fast replay) shares
+  // its check and insertion with them. A live scan comes milliseconds after the last and finds
+  // them asleep: waking them costs more CPU than the share of the scan they would take, so it
+  // runs on the caller alone.
+  const bool share =
+      std::chrono::steady_clock::now() - impl_->last_scan_done < ParallelRunner::kSpinTime;
+  ScanUpdate update = addScanSharing(scan, share);
+  impl_->last_scan_done = std::chrono::steady_clock::now();
+  return update;
+}
+
+ScanUpdate Mapper::addScanSharing(const TimedScan& scan, bool share) {
   runDueTick();
   ScanUpdate update = placeScan(scan);
   if (!update.error.empty()) return update;
+  update.shared = share && impl_->runner->threads() > 1;
   makeRays(scan, impl_->rays, update);
   const auto cut_start = std::chrono::steady_clock::now();
   impl_->stats.reflection_rays +=
-      impl_->reflections.cut(impl_->rays, update.labels, impl_->runner.get());
+      impl_->reflections.cut(impl_->rays, update.labels, share ? impl_->runner.get() : nullptr);
   update.reflection_ms = millisecondsSince(cut_start);
   const auto insert_start = std::chrono::steady_clock::now();
-  update.bin_updates = impl_->inserter.insert(impl_->rays, field_);
+  update.bin_updates = impl_->inserter.insert(impl_->rays, field_, share);
   update.insert_ms = millisecondsSince(insert_start);
   finishScan(scan, impl_->rays, update);
   return update;

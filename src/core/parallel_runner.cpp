@@ -6,13 +6,6 @@
 namespace rfm {
 namespace {
 
-// Waking a sleeping thread costs tens of microseconds on a VM, as much as a scan's share of
-// work: helpers spin this long for the next job before they sleep, and the caller spins for
-// the helpers to finish (their parts are about as long as its own). A helper spins only while
-// jobs follow each other within this time (the batch's scans); a live mapper's scans come
-// milliseconds apart, and spinning after each would only burn the core.
-constexpr auto kSpinTime = std::chrono::microseconds(200);
-
 inline void cpuRelax() {
 #if defined(__x86_64__) || defined(__i386__)
   __builtin_ia32_pause();

@@ -131,7 +131,7 @@ void ScanInserter::run(const std::vector<Ray>& rays, const ReflectanceField& fie
       });
 }
 
-size_t ScanInserter::insert(const std::vector<Ray>& rays, ReflectanceField& field) {
+size_t ScanInserter::insert(const std::vector<Ray>& rays, ReflectanceField& field, bool share) {
   for (ReflectanceField::DeferredSummaries& deferred : deferred_)
     deferred.clear();
   // Part -1 is the caller alone; parts running side by side defer their summary changes.
@@ -140,8 +140,8 @@ size_t ScanInserter::insert(const std::vector<Ray>& rays, ReflectanceField& fiel
       [&](int part) {
         return FieldTarget{field, part < 0 ? nullptr : &deferred_[part]};
       },
-      /*parallel=*/true);
-  field.applySummaryChanges(deferred_, runner_.get());
+      share);
+  field.applySummaryChanges(deferred_, share ? runner_.get() : nullptr);
   return updates_;
 }
 

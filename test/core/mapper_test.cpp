@@ -1,14 +1,17 @@
 #include "reflectance_field_map/core/batch_processor.h"
+#include "reflectance_field_map/core/parallel_runner.h"
 #include "reflectance_field_map/core/ray_insertion.h"
 
 #include "scenario.h"
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 namespace rfm {
 namespace {
@@ -266,6 +269,50 @@ TEST(Mapper, AddScansGivesWhatAddScanGivesWithRaysBeyondTheWindow) {
   // Without reflection removal every group goes into the field together (insertScans, which
   // takes the mapper's rays as already clipped to the window).
   expectAddScansMatchesAddScan(false, /*restart=*/false, /*sensor_ahead=*/1.2);
+}
+
+// Scans back to back (a batch, a fast replay) share their work with the helper threads; scans
+// that come after a pause, as live scans do, are done by the caller alone, and the field, the
+// classes and the labels come out the same.
+TEST(Mapper, ScansAfterAPauseGoInWithoutTheHelpersAndGiveTheSameMap) {
+  SyntheticWorld world;
+  world.addWall({0.0, 2.0}, {40.0, 2.0});
+  world.addWall({0.0, -2.0}, {6.0, -2.0});
+  world.addFramedPane({6.0, -2.0}, {10.0, -2.0});
+  world.addWall({10.0, -2.0}, {40.0, -2.0});
+  world.addWall({5.0, -6.0}, {12.0, -6.0});  // seen through the glass
+  std::vector<TimedScan> scans;
+  int i = 0;
+  for (const auto& step : driveBy({1.0, 0.0}, {9.0, 0.0}, 0.0))
+    scans.push_back(world.timedScan(step.robot, 0.025 * i++));
+  MapperOptions options = testing::scenarioOptions();
+  options.insertion.insertion_threads = 2;
+  // Returns each scan's update; with `pause`, waits longer than the helpers spin before each.
+  auto map = [&](Mapper& mapper, bool pause) {
+    std::vector<ScanUpdate> updates;
+    for (size_t k = 0; k < scans.size(); ++k) {
+      if (pause) std::this_thread::sleep_for(4 * ParallelRunner::kSpinTime);
+      updates.push_back(mapper.addScan(scans[k]));
+      if (k % 20 == 19) mapper.removeMotion();
+    }
+    return updates;
+  };
+  Mapper back_to_back(options), paused(options);
+  const std::vector<ScanUpdate> a = map(back_to_back, false);
+  const std::vector<ScanUpdate> b = map(paused, true);
+  size_t shared = 0;
+  for (size_t k = 0; k < scans.size(); ++k) {
+    ASSERT_FALSE(b[k].shared) << "scan " << k;
+    ASSERT_EQ(a[k].labels, b[k].labels) << "scan " << k;
+    shared += a[k].shared;
+  }
+  // The first scan follows no other; a few more may follow a caller the system descheduled.
+  EXPECT_GT(shared, scans.size() / 2);
+  EXPECT_GT(back_to_back.stats().reflection_rays, 0u);
+  std::stringstream state_a, state_b;
+  back_to_back.save(state_a);
+  paused.save(state_b);
+  EXPECT_TRUE(state_a.str() == state_b.str());
 }
 
 }  // namespace

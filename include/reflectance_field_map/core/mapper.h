@@ -38,6 +38,7 @@ struct ScanUpdate {
   std::string error;  // non-empty: the scan was malformed and rejected (nothing inserted)
   size_t bin_updates = 0;
   bool region_moved = false;
+  bool shared = false;  // the mapper's helper threads took part (see Mapper::addScan)
   double insert_ms = 0.0;
   double reflection_ms = 0.0;
 };
@@ -92,6 +93,9 @@ class Mapper {
   // makes due (every 1 / motion_removal_rate s of the scans' clock) waits for runDueTick(), which
   // the next addScan, addScans or removeMotion runs first, so that it reads the field exactly as
   // this scan left it: a live caller runs it once the scan's labels are out, off its latency.
+  // A scan that comes within ParallelRunner::kSpinTime of the last addScan's return shares the
+  // work with the mapper's helper threads (insertion_threads); a later one, as live scans come,
+  // is done by the caller alone. Either way the field and the labels come out the same.
   ScanUpdate addScan(const TimedScan& scan);
   // Runs the persistence tick that the last scan made due, if any (see addScan).
   void runDueTick();
@@ -158,6 +162,8 @@ class Mapper {
   // (statistics, the scans kept for online re-processing), which addScans calls apart because it
   // inserts a group's rays after counting its scans.
   ScanUpdate placeScan(const TimedScan& scan);
+  // addScan's work, with the helper threads or without them.
+  ScanUpdate addScanSharing(const TimedScan& scan, bool share);
   const Eigen::Vector2d& regionCentre(const TimedScan& scan) const;
   void makeRays(const TimedScan& scan, std::vector<Ray>& rays, ScanUpdate& update) const;
   void finishScan(const TimedScan& scan, const std::vector<Ray>& rays, const ScanUpdate& update);

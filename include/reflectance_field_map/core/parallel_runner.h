@@ -1,6 +1,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <exception>
 #include <functional>
@@ -23,6 +24,13 @@ class ParallelRunner {
   ParallelRunner& operator=(const ParallelRunner&) = delete;
 
   int threads() const { return static_cast<int>(helpers_.size()) + 1; }
+
+  // Waking a sleeping thread costs tens of microseconds on a VM, as much as a scan's share of
+  // work: helpers spin this long for the next job before they sleep, and the caller spins for
+  // the helpers to finish (their parts are about as long as its own). A helper spins only while
+  // jobs follow each other within this time (the batch's scans); a live mapper's scans come
+  // milliseconds apart, and spinning after each would only burn the core.
+  static constexpr std::chrono::microseconds kSpinTime{200};
 
   // Calls part(i) for every i in [0, threads()) and returns when all have finished. The first
   // exception thrown by any part is rethrown here. One job at a time: not reentrant (a part

@@ -39,8 +39,9 @@ class ScanInserter {
   ScanInserter(const ScanInserter&) = delete;
   ScanInserter& operator=(const ScanInserter&) = delete;
 
-  // Returns the number of (cell, bin) updates applied.
-  size_t insert(const std::vector<Ray>& rays, ReflectanceField& field);
+  // Returns the number of (cell, bin) updates applied. share = false: the caller alone, the
+  // runner's helpers left asleep (the field comes out the same).
+  size_t insert(const std::vector<Ray>& rays, ReflectanceField& field, bool share = true);
   // The same as insert() on scans[0, count) in turn (the window must stay put), but theta bin by
   // theta bin across the scans: a bin's slice is written for all of them while it is in cache.
   // Their rays must lie inside the window already (as Mapper::clipToActiveRegion leaves them):
