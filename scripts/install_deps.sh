@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs everything the package needs to build, test and run, from Debian 12's archive
 # (ROS 1 ships as Debian packages under /usr: nothing to source); clang and its runtimes build
-# the fuzz targets (scripts/run_fuzzers.sh). Run as root.
+# the fuzz targets (scripts/run_fuzzers.sh); packages named as arguments go in too. Run as root.
 set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive
 apt-get update -q
@@ -18,4 +18,5 @@ apt-get install -y -q --no-install-recommends \
   python3-sensor-msgs python3-nav-msgs python3-tf2-msgs python3-visualization-msgs python3-std-srvs \
   python3-diagnostic-msgs \
   rviz xvfb xauth imagemagick \
-  clang libclang-rt-dev
+  clang libclang-rt-dev \
+  "$@"  # packages a caller adds (run_peers.sh: MRPT)

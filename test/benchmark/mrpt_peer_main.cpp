@@ -29,21 +29,27 @@
 
 namespace {
 
-// The observation of `scan`'s beams whose reading is `wanted`, every other beam invalid.
-// Returns how many beams it holds.
-size_t fillObservation(const rfm::LaserScan2D& scan, rfm::BeamReading wanted, float no_return_range,
-                       mrpt::obs::CObservation2DRangeScan& observation) {
-  observation.resizeScan(scan.ranges.size());
-  size_t count = 0;
+// Fills `returns` with the scan's beams that returned and `no_returns` with those that did not
+// (at `clearing` m), every other beam invalid in each; counts them in `hits` and `clears`.
+void fillObservations(const rfm::LaserScan2D& scan, float clearing,
+                      mrpt::obs::CObservation2DRangeScan& returns,
+                      mrpt::obs::CObservation2DRangeScan& no_returns, size_t& hits,
+                      size_t& clears) {
+  returns.resizeScan(scan.ranges.size());
+  no_returns.resizeScan(scan.ranges.size());
+  hits = clears = 0;
   for (size_t beam = 0; beam < scan.ranges.size(); ++beam) {
-    const bool used =
-        rfm::classifyBeam(scan.ranges[beam], scan.range_min, scan.range_max) == wanted;
-    const float range = wanted == rfm::BeamReading::kReturn ? scan.ranges[beam] : no_return_range;
-    observation.setScanRange(beam, used ? range : 0.0f);
-    observation.setScanRangeValidity(beam, used);
-    count += used;
+    const rfm::BeamReading reading =
+        rfm::classifyBeam(scan.ranges[beam], scan.range_min, scan.range_max);
+    const bool hit = reading == rfm::BeamReading::kReturn;
+    const bool clear = reading == rfm::BeamReading::kNoReturn;
+    returns.setScanRange(beam, hit ? scan.ranges[beam] : 0.0f);
+    returns.setScanRangeValidity(beam, hit);
+    no_returns.setScanRange(beam, clear ? clearing : 0.0f);
+    no_returns.setScanRangeValidity(beam, clear);
+    hits += hit;
+    clears += clear;
   }
-  return count;
 }
 
 }  // namespace
@@ -82,11 +88,10 @@ int main(int argc, char** argv) {
       }
       const float clearing = static_cast<float>(
           std::min<double>(defaults.insertion.clearing_distance, scan.range_max));
-      const size_t hits = fillObservation(scan, rfm::BeamReading::kReturn, 0.0f, returns);
+      size_t hits = 0, clears = 0;
+      fillObservations(scan, clearing, returns, no_returns, hits, clears);
       insertion.maxDistanceInsertion = std::numeric_limits<float>::max();
       if (hits > 0) grid.insertObservation(returns, sensor);
-      const size_t clears =
-          fillObservation(scan, rfm::BeamReading::kNoReturn, clearing, no_returns);
       insertion.maxDistanceInsertion = clearing;
       if (clears > 0) grid.insertObservation(no_returns, sensor);
       ray_count += hits + clears;

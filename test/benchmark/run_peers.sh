@@ -18,11 +18,7 @@ source "$here/../../scripts/workspace.sh"
 OUT="${OUT:-/tmp/rfm_peers}"
 ROUNDS="${ROUNDS:-3}"
 DATA="$rfm_source_dir/../shared/data/real"
-if [ "${RFM_SKIP_INSTALL:-0}" != 1 ]; then
-  bash "$rfm_source_dir/scripts/install_deps.sh"
-  DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends libmrpt-maps-dev
-fi
-bash "$rfm_source_dir/scripts/build.sh" >&2  # stdout: the table
+rfm_setup libmrpt-maps-dev >&2  # stdout: the table
 rfm_activate
 mkdir -p "$OUT"
 for log in freiburg-079 freiburg-campus; do

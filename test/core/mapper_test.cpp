@@ -151,6 +151,17 @@ TEST(Mapper, ADueTickWaitsForRunDueTick) {
   EXPECT_GT(ticks_run, 3);
 }
 
+// A corridor whose south wall holds a framed pane, with a wall seen through it.
+SyntheticWorld corridorWithPane() {
+  SyntheticWorld world;
+  world.addWall({0.0, 2.0}, {40.0, 2.0});
+  world.addWall({0.0, -2.0}, {6.0, -2.0});
+  world.addFramedPane({6.0, -2.0}, {10.0, -2.0});
+  world.addWall({10.0, -2.0}, {40.0, -2.0});
+  world.addWall({8.0, -6.0}, {12.0, -6.0});  // seen through the glass
+  return world;
+}
+
 // Same field, persistence and classes as addScan one by one, while the window moves, ticks
 // fall inside groups of scans and (with reflection removal) known glass cuts rays. With
 // `restart`, halfway both restart their evidence and take the scans again (batch
@@ -159,12 +170,7 @@ TEST(Mapper, ADueTickWaitsForRunDueTick) {
 // must be clipped to it before either path inserts them.
 void expectAddScansMatchesAddScan(bool reflection_removal, bool restart = false,
                                   double sensor_ahead = 0.0) {
-  SyntheticWorld world;
-  world.addWall({0.0, 2.0}, {40.0, 2.0});
-  world.addWall({0.0, -2.0}, {6.0, -2.0});
-  world.addFramedPane({6.0, -2.0}, {10.0, -2.0});
-  world.addWall({10.0, -2.0}, {40.0, -2.0});
-  world.addWall({8.0, -6.0}, {12.0, -6.0});  // seen through the glass
+  SyntheticWorld world = corridorWithPane();
   MapperOptions options = testing::scenarioOptions();
   options.reflection_removal.reflection_removal_enabled = reflection_removal;
   Mapper one_by_one(options), grouped(options);
@@ -275,12 +281,7 @@ TEST(Mapper, AddScansGivesWhatAddScanGivesWithRaysBeyondTheWindow) {
 // that come after a pause, as live scans do, are done by the caller alone, and the field, the
 // classes and the labels come out the same.
 TEST(Mapper, ScansAfterAPauseGoInWithoutTheHelpersAndGiveTheSameMap) {
-  SyntheticWorld world;
-  world.addWall({0.0, 2.0}, {40.0, 2.0});
-  world.addWall({0.0, -2.0}, {6.0, -2.0});
-  world.addFramedPane({6.0, -2.0}, {10.0, -2.0});
-  world.addWall({10.0, -2.0}, {40.0, -2.0});
-  world.addWall({5.0, -6.0}, {12.0, -6.0});  // seen through the glass
+  SyntheticWorld world = corridorWithPane();
   std::vector<TimedScan> scans;
   int i = 0;
   for (const auto& step : driveBy({1.0, 0.0}, {9.0, 0.0}, 0.0))
