@@ -199,6 +199,10 @@ void Mapper::makeRays(const TimedScan& scan, std::vector<Ray>& rays, ScanUpdate&
     update.labels[ray.beam] = RayLabel::kKept;
   clipRaysToRegion(field_.activeBox(), field_.geometry().resolution(),
                    options_.active_region.active_region_radius, rays);
+  // A return still a return after the clip is the whole ray: the check that follows sees all of it.
+  update.checked_returns.assign(scan.scan.ranges.size(), 0);
+  for (const Ray& ray : rays)
+    if (ray.hit) update.checked_returns[ray.beam] = 1;
 }
 
 void Mapper::countScan(double stamp) {
@@ -268,18 +272,21 @@ std::vector<RayLabel> Mapper::labelScan(const TimedScan& scan, bool final_map) c
   return labelValidScan(scan, final_map);
 }
 
-std::vector<RayLabel> Mapper::labelValidScan(const TimedScan& scan, bool final_map) const {
+std::vector<RayLabel> Mapper::labelValidScan(const TimedScan& scan, bool final_map,
+                                             const std::vector<uint8_t>* checked) const {
   std::vector<Ray> rays;
   scanToRays(scan.scan, scan.sensor_pose, options_.insertion, rays);
   return labelRays(rays, scan.scan.ranges.size(), impl_->reflections, impl_->classes,
                    field_.activeBox(), field_.geometry(),
-                   options_.active_region.active_region_radius, final_map);
+                   options_.active_region.active_region_radius, final_map, checked);
 }
 
 std::vector<RayLabel> Mapper::labelAddedScan(const TimedScan& scan,
                                              const ScanUpdate& update) const {
   if (!update.error.empty()) return update.labels;  // addScan refused it: every beam NO_RETURN
-  std::vector<RayLabel> labels = labelValidScan(scan, false);
+  // The insertion checked its returns against the classes the labels read (they change only
+  // in removeMotion): a whole ray it checked is not checked again, its cut is in update.labels.
+  std::vector<RayLabel> labels = labelValidScan(scan, false, &update.checked_returns);
   for (size_t i = 0; i < labels.size() && i < update.labels.size(); ++i) {
     if (update.labels[i] == RayLabel::kReflection) labels[i] = RayLabel::kReflection;
   }

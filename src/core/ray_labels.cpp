@@ -7,7 +7,8 @@ namespace rfm {
 std::vector<RayLabel> labelRays(const std::vector<Ray>& rays, size_t beams,
                                 const ReflectionRemover& reflections, const ActiveClasses& classes,
                                 const CellBox& window_box, const GridGeometry& geometry,
-                                double evidence_range, bool final_map) {
+                                double evidence_range, bool final_map,
+                                const std::vector<uint8_t>* checked_beams) {
   std::vector<RayLabel> labels(beams, RayLabel::kNoReturn);
   // The reflection check of every hit ray first, side by side (passThroughDistances).
   std::vector<Ray> checked;
@@ -15,6 +16,7 @@ std::vector<RayLabel> labelRays(const std::vector<Ray>& rays, size_t beams,
   if (reflections.checks()) {
     checked.reserve(rays.size());  // grown one by one, it reallocated ten times a scan
     for (const Ray& ray : rays) {
+      if (checked_beams && ray.beam < checked_beams->size() && (*checked_beams)[ray.beam]) continue;
       Ray inside = ray;
       if (ray.hit && clipRayToBox(window_box, geometry.resolution(), inside)) {
         checked.push_back(inside);

@@ -278,6 +278,36 @@ TEST(ReflectionRemoval, OnlineScansThroughKnownGlassAreReflections) {
   }
 }
 
+// A return whose whole ray the insertion checked keeps that check's answer in the published
+// labels: the check read the classes the labels read, so it is not run again. A return the
+// region cut short is checked whole when labelled.
+TEST(ReflectionRemoval, LabelsTakeTheInsertionsAnswerForTheWholeRaysItChecked) {
+  SyntheticWorld world = paneWithWallBehindWorld();
+  Mapper mapper(testing::scenarioOptions());
+  runScenario(mapper, world, driveAlongThePane());
+  const TimedScan scan = world.timedScan({{0.0, 0.0}, 0.0});
+  const ScanUpdate update = mapper.addScan(scan);
+  ASSERT_EQ(update.checked_returns.size(), scan.scan.ranges.size());
+  // Pretend the insertion let the beams through the pane pass: checked, they stay unchecked.
+  ScanUpdate let_pass = update;
+  size_t through_pane = 0;
+  for (size_t i = 0; i < let_pass.labels.size(); ++i) {
+    if (let_pass.labels[i] != RayLabel::kReflection) continue;
+    EXPECT_EQ(let_pass.checked_returns[i], 1) << "beam " << i;
+    let_pass.labels[i] = RayLabel::kKept;
+    ++through_pane;
+  }
+  ASSERT_GT(through_pane, 100u);
+  const std::vector<RayLabel> published = mapper.labelAddedScan(scan, let_pass);
+  EXPECT_EQ(std::count(published.begin(), published.end(), RayLabel::kReflection), 0);
+  // Not marked checked, they are checked when labelled, and found passing through the pane.
+  std::fill(let_pass.checked_returns.begin(), let_pass.checked_returns.end(), 0);
+  const std::vector<RayLabel> rechecked = mapper.labelAddedScan(scan, let_pass);
+  EXPECT_GE(
+      static_cast<size_t>(std::count(rechecked.begin(), rechecked.end(), RayLabel::kReflection)),
+      through_pane);
+}
+
 // The robot maps a wall, then its laser returns nothing from it (a dark stretch, dropouts): the
 // beams clear up to the clearing distance, but only up to the wall. The cells behind it stay
 // unknown, and the node publishes the beams as NO_RETURN.

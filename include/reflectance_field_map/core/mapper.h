@@ -39,6 +39,9 @@ struct ScanUpdate {
   size_t bin_updates = 0;
   bool region_moved = false;
   bool shared = false;  // the mapper's helper threads took part (see Mapper::addScan)
+  // By beam: 1 where the insertion's glass check saw the whole ray of a return (neither the
+  // active region nor the window shortened it): labelAddedScan takes that check's answer.
+  std::vector<uint8_t> checked_returns;
   double insert_ms = 0.0;
   double reflection_ms = 0.0;
 };
@@ -134,7 +137,9 @@ class Mapper {
   // until motion removal has judged it.
   std::vector<RayLabel> labelScan(const TimedScan& scan, bool final_map = false) const;
   // labelScan of a scan just added (live), with `update` its addScan result: a beam the
-  // insertion cut at glass is REFLECTION whatever the map says now.
+  // insertion cut at glass is REFLECTION whatever the map says now, and a return whose whole ray
+  // the insertion checked is not checked again (the check read the same classes; only the
+  // scan's own evidence, inserted since, could move a static cell's directions).
   std::vector<RayLabel> labelAddedScan(const TimedScan& scan, const ScanUpdate& update) const;
   // labelScan of the scans [first, last), on the mapper's threads.
   std::vector<std::vector<RayLabel>> labelScans(ScanIterator first, ScanIterator last,
@@ -172,8 +177,10 @@ class Mapper {
   bool tickDue(double stamp) const;
   // What reset() and load() start afresh besides the field and the map.
   void forgetDerivedState();
-  // labelScan of a scan already validated.
-  std::vector<RayLabel> labelValidScan(const TimedScan& scan, bool final_map) const;
+  // labelScan of a scan already validated; beams marked in `checked` (by beam, may be null)
+  // are not checked for passing through glass again.
+  std::vector<RayLabel> labelValidScan(const TimedScan& scan, bool final_map,
+                                       const std::vector<uint8_t>* checked = nullptr) const;
 
   MapperOptions options_;
   ReflectanceField field_;

@@ -48,10 +48,12 @@ RayLabel labelEndpoint(const Ray& beam, const GridGeometry& geometry, double evi
 // The labels of a scan's `rays` (in beam order, of a scan of `beams` beams) against the active
 // region's classes: REFLECTION where the reflection check finds the ray passing through a
 // blocking cell (its part inside the window), else as labelEndpoint judges it; NO_RETURN for
-// beams without a return.
+// beams without a return. Beams marked in `checked_beams` (by beam; null or empty: none) skip
+// the reflection check: the caller already knows its answer for them.
 std::vector<RayLabel> labelRays(const std::vector<Ray>& rays, size_t beams,
                                 const ReflectionRemover& reflections, const ActiveClasses& classes,
                                 const CellBox& window_box, const GridGeometry& geometry,
-                                double evidence_range, bool final_map);
+                                double evidence_range, bool final_map,
+                                const std::vector<uint8_t>* checked_beams = nullptr);
 
 }  // namespace rfm
