@@ -110,6 +110,11 @@ ScanUpdate Mapper::addScanSharing(const TimedScan& scan, bool share) {
   if (!update.error.empty()) return update;
   update.shared = share && impl_->runner->threads() > 1;
   makeRays(scan, impl_->rays, update);
+  // A return still a return after the clip is the whole ray: the check below sees all of it.
+  // Only a live scan's labels (labelAddedScan) read this; addScans' batch labels do not.
+  update.checked_returns.assign(scan.scan.ranges.size(), 0);
+  for (const Ray& ray : impl_->rays)
+    if (ray.hit) update.checked_returns[ray.beam] = 1;
   const auto cut_start = std::chrono::steady_clock::now();
   impl_->stats.reflection_rays +=
       impl_->reflections.cut(impl_->rays, update.labels, share ? impl_->runner.get() : nullptr);
@@ -199,10 +204,6 @@ void Mapper::makeRays(const TimedScan& scan, std::vector<Ray>& rays, ScanUpdate&
     update.labels[ray.beam] = RayLabel::kKept;
   clipRaysToRegion(field_.activeBox(), field_.geometry().resolution(),
                    options_.active_region.active_region_radius, rays);
-  // A return still a return after the clip is the whole ray: the check that follows sees all of it.
-  update.checked_returns.assign(scan.scan.ranges.size(), 0);
-  for (const Ray& ray : rays)
-    if (ray.hit) update.checked_returns[ray.beam] = 1;
 }
 
 void Mapper::countScan(double stamp) {

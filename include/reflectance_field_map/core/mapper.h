@@ -41,6 +41,7 @@ struct ScanUpdate {
   bool shared = false;  // the mapper's helper threads took part (see Mapper::addScan)
   // By beam: 1 where the insertion's glass check saw the whole ray of a return (neither the
   // active region nor the window shortened it): labelAddedScan takes that check's answer.
+  // Set by addScan only.
   std::vector<uint8_t> checked_returns;
   double insert_ms = 0.0;
   double reflection_ms = 0.0;
