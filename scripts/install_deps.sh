@@ -16,7 +16,7 @@ apt-get install -y -q --no-install-recommends \
   python3-rostopic python3-rosnode python3-roslaunch python3-rosservice rosbash tf2-tools \
   libnodeletlib-tools \
   python3-sensor-msgs python3-nav-msgs python3-tf2-msgs python3-visualization-msgs python3-std-srvs \
-  python3-diagnostic-msgs \
+  python3-diagnostic-msgs python3-rosbag python3-numpy python3-yaml \
   rviz xvfb xauth imagemagick \
   clang libclang-rt-dev \
   "$@"  # packages a caller adds (run_peers.sh: MRPT)

@@ -1,0 +1,233 @@
+#!/usr/bin/env python3
+"""Whose motion rays a map kept, and whether any mapper could have removed them.
+
+Reads the output of scripts/run_random_evaluation.sh (OUT/SETUP/SEED/{sim.bag, scene.yaml,
+MAPPER/labels.bag}) and sorts every true motion beam that MAPPER labelled KEPT by the person it
+hit (the nearest person of the scene file at the scan's stamp, within 0.7 m):
+  - walking: the person was moving;
+  - standing, stays: standing, and standing there until the recording ends;
+  - standing, left unseen: left later, and no later beam passed within 0.1 m of where they stood
+    and returned from beyond it while they were away: the map was never shown the spot empty;
+  - standing, left, seen: some later beam, with the person a metre or more away, did pass through
+    the spot (at least one: an upper bound on what a map could have removed).
+
+    scripts/kept_motion.py OUT [MAPPER]      # MAPPER: RFM (default) or plain_grid
+
+Prints one markdown row per setup and seed split, shares of all true motion beams.
+Needs python3-rosbag, python3-numpy and python3-yaml.
+"""
+import math
+import os
+import sys
+
+import numpy as np
+import rosbag
+import yaml
+
+MOTION = 4  # RayTruth.MOTION
+KEPT = 1  # RayLabels.KEPT
+NEAREST_PERSON = 0.7  # m
+THROUGH_SPOT = 0.1  # m
+PERSON_GONE = 1.0  # m from the spot
+STEP = 0.05  # s, as the simulator's crowd planner samples
+
+
+class Person:
+    """A person of the scene file, moved as rfm_sim moves them (src/sim/people.cpp)."""
+
+    def __init__(self, spec):
+        self.name = spec["name"]
+        self.start = spec.get("start_time", 0.0)
+        self.end = spec.get("end_time", math.inf)
+        self.loop = spec.get("loop", False)
+        points = [(w[0], w[1], w[2] if len(w) > 2 else 0.0) for w in spec["waypoints"]]
+        if self.loop:
+            points.append(points[0])
+        # (from, to, pause before walking, walking time)
+        self.legs = [((a[0], a[1]), (b[0], b[1]), a[2], math.dist(a[:2], b[:2]) / spec["speed"])
+                     for a, b in zip(points, points[1:])]
+        if not self.loop:
+            last = (points[-1][0], points[-1][1])
+            self.legs.append((last, last, points[-1][2], 0.0))
+        self.cycle = sum(pause + walk for _, _, pause, walk in self.legs)
+
+    def at(self, t):
+        """(position, standing) at time t, or None while absent."""
+        if t < self.start or t > self.end:
+            return None
+        local = t - self.start
+        if self.loop and self.cycle > 0.0:
+            local = math.fmod(local, self.cycle)
+        elif local > self.cycle:
+            return None
+        for a, b, pause, walk in self.legs:
+            if local <= pause:
+                return a, True
+            local -= pause
+            if local <= walk:
+                f = local / walk if walk > 0.0 else 1.0
+                return (a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1])), False
+            local -= walk
+        return self.legs[-1][1], True
+
+    def leaves(self, spot, t, duration):
+        """When the person standing at spot at t is first elsewhere, or None."""
+        s = t
+        while s < duration:
+            s += STEP
+            here = self.at(s)
+            if here is None or math.dist(here[0], spot) > STEP:
+                return s
+        return None
+
+
+def yaw_of(q):
+    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+
+
+def compose(a, b):
+    c, s = math.cos(a[2]), math.sin(a[2])
+    return (a[0] + c * b[0] - s * b[1], a[1] + s * b[0] + c * b[1], a[2] + b[2])
+
+
+def read_scans(bag_path):
+    """Every scan with its sensor's true pose (map frame) and its truth, in bag order, and the
+    stamp of scene time 0 (the bag's start)."""
+    chains = {("map", "odom"): [], ("odom", "base_link"): []}
+    mounts, truth, scans = {}, {}, []
+    with rosbag.Bag(bag_path) as bag:
+        for topic, msg, _ in bag.read_messages(topics=["/tf", "/tf_static", "/sim/ray_truth"]):
+            if topic == "/sim/ray_truth":
+                truth[(msg.scan_topic, msg.header.stamp.to_nsec())] = np.frombuffer(
+                    msg.classes, dtype=np.uint8)
+                continue
+            for tf in msg.transforms:
+                pose = (tf.transform.translation.x, tf.transform.translation.y,
+                        yaw_of(tf.transform.rotation))
+                if topic == "/tf_static":
+                    mounts[tf.child_frame_id] = pose
+                elif (tf.header.frame_id, tf.child_frame_id) in chains:
+                    chains[(tf.header.frame_id, tf.child_frame_id)].append(
+                        (tf.header.stamp.to_sec(), pose))
+        stamps = {k: np.array([s for s, _ in v]) for k, v in chains.items()}
+
+        def lookup(key, stamp):
+            i = min(int(np.searchsorted(stamps[key], stamp)), len(chains[key]) - 1)
+            return chains[key][i][1]
+
+        origin = bag.get_start_time()
+        for topic, msg, _ in bag.read_messages():
+            if not hasattr(msg, "ranges"):
+                continue
+            key = (topic, msg.header.stamp.to_nsec())
+            if key not in truth:
+                continue
+            stamp = msg.header.stamp.to_sec()
+            pose = compose(compose(lookup(("map", "odom"), stamp),
+                                   lookup(("odom", "base_link"), stamp)),
+                           mounts[msg.header.frame_id])
+            ranges = np.nan_to_num(np.array(msg.ranges), posinf=1e9)
+            angles = pose[2] + msg.angle_min + msg.angle_increment * np.arange(len(ranges))
+            scans.append({"key": key, "stamp": stamp, "x": pose[0], "y": pose[1],
+                          "cos": np.cos(angles), "sin": np.sin(angles), "ranges": ranges,
+                          "truth": truth[key]})
+    return scans, origin
+
+
+def seen_through(scans, person, spot, after, origin):
+    """Whether a beam of a scan after `after` (scene time), with the person gone from the spot,
+    passed through it and beyond. (Beams pass between a standing person's legs.)"""
+    for scan in scans:
+        t = scan["stamp"] - origin
+        if t <= after:
+            continue
+        where = person.at(t)
+        if where is not None and math.dist(where[0], spot) < PERSON_GONE:
+            continue
+        vx, vy = spot[0] - scan["x"], spot[1] - scan["y"]
+        along = vx * scan["cos"] + vy * scan["sin"]
+        across = np.abs(vy * scan["cos"] - vx * scan["sin"])
+        if np.any((along > 0.0) & (across < THROUGH_SPOT) &
+                  (scan["ranges"] > along + THROUGH_SPOT)):
+            return True
+    return False
+
+
+def classify_run(directory, mapper):
+    scene = yaml.safe_load(open(os.path.join(directory, "scene.yaml")))
+    duration = scene["duration"]
+    people = [Person(spec) for spec in scene.get("people", [])]
+    bag_path = os.path.join(directory, "sim.bag")
+    scans, origin = read_scans(bag_path)
+    labels = {}
+    with rosbag.Bag(os.path.join(directory, mapper, "labels.bag")) as bag:
+        for _, msg, _ in bag.read_messages():
+            labels[(msg.scan_topic, msg.header.stamp.to_nsec())] = np.frombuffer(
+                msg.labels, dtype=np.uint8)
+    counts = {"motion": 0, "walking": 0, "stays": 0, "left unseen": 0, "left, seen": 0,
+              "nobody near": 0}
+    spots = {}
+    for scan in scans:
+        motion = np.nonzero(scan["truth"] == MOTION)[0]
+        counts["motion"] += len(motion)
+        label = labels.get(scan["key"])
+        if label is None or len(label) != len(scan["truth"]):
+            raise SystemExit("%s: no labels for a scan of %s" % (directory, scan["key"][0]))
+        t = scan["stamp"] - origin
+        present = [(i, p.at(t)) for i, p in enumerate(people)]
+        present = [(i, where) for i, where in present if where is not None]
+        for beam in motion[label[motion] == KEPT]:
+            r = scan["ranges"][beam]
+            hit = (scan["x"] + r * scan["cos"][beam], scan["y"] + r * scan["sin"][beam])
+            near = [(math.dist(where[0], hit), i, where) for i, where in present]
+            near = [n for n in near if n[0] < NEAREST_PERSON]
+            if not near:
+                counts["nobody near"] += 1
+                continue
+            _, i, (position, standing) = min(near)
+            if not standing:
+                counts["walking"] += 1
+                continue
+            spot = (i, round(position[0], 3), round(position[1], 3))
+            if spot not in spots:
+                left = people[i].leaves(position, t, duration)
+                if left is None:
+                    spots[spot] = "stays"
+                else:
+                    seen = seen_through(scans, people[i], position, left, origin)
+                    spots[spot] = "left, seen" if seen else "left unseen"
+            counts[spots[spot]] += 1
+    return counts
+
+
+def main():
+    if len(sys.argv) < 2:
+        sys.exit(__doc__)
+    out = sys.argv[1]
+    mapper = sys.argv[2] if len(sys.argv) > 2 else "RFM"
+    manifest = os.path.join(out, "manifest.txt")
+    rows = {}
+    with open(manifest) as runs:
+        for line in runs:
+            config, seed, _, setup, split = line.split()
+            if config != mapper:
+                continue
+            counts = classify_run(os.path.join(out, setup, seed), mapper)
+            total = rows.setdefault((setup, split), {"seeds": 0})
+            total["seeds"] += 1
+            for k, v in counts.items():
+                total[k] = total.get(k, 0) + v
+    columns = ["walking", "stays", "left unseen", "left, seen", "nobody near"]
+    print("| setup | seeds | mapper | motion beams | removed (%) | kept, of all motion beams (%): "
+          + " / ".join(columns) + " |")
+    print("|---|---|---|---:|---:|---|")
+    for (setup, split), c in sorted(rows.items()):
+        kept = sum(c[k] for k in columns)
+        share = " / ".join("%.1f" % (100.0 * c[k] / max(c["motion"], 1)) for k in columns)
+        print("| %s | %s (%d) | %s | %d | %.1f | %s |" % (
+            setup, split, c["seeds"], mapper, c["motion"],
+            100.0 - 100.0 * kept / max(c["motion"], 1), share))
+
+
+if __name__ == "__main__":
+    main()
