@@ -6,10 +6,11 @@ MAPPER/labels.bag}) and sorts every true motion beam that MAPPER labelled KEPT b
 hit (the nearest person of the scene file at the scan's stamp, within 0.7 m):
   - walking: the person was moving;
   - standing, stays: standing, and standing there until the recording ends;
-  - standing, left unseen: left later, and no later beam passed within 0.1 m of where they stood
-    and returned from beyond it while they were away: the map was never shown the spot empty;
-  - standing, left, seen: some later beam, with the person a metre or more away, did pass through
-    the spot (at least one: an upper bound on what a map could have removed).
+  - standing, left unseen: left later, and no later beam crossed their footprint (within their
+    radius of where they stood, on past its middle) while they were a metre or more away: the
+    map was never shown the spot empty;
+  - standing, left, seen: some later beam did (at least one: an upper bound on what a map could
+    have removed).
 
     scripts/kept_motion.py OUT [MAPPER]      # MAPPER: RFM (default) or plain_grid
 
@@ -27,7 +28,6 @@ import yaml
 MOTION = 4  # RayTruth.MOTION
 KEPT = 1  # RayLabels.KEPT
 NEAREST_PERSON = 0.7  # m
-THROUGH_SPOT = 0.1  # m
 PERSON_GONE = 1.0  # m from the spot
 STEP = 0.05  # s, as the simulator's crowd planner samples
 
@@ -37,6 +37,7 @@ class Person:
 
     def __init__(self, spec):
         self.name = spec["name"]
+        self.radius = spec["radius"]  # the footprint: body or legs
         self.start = spec.get("start_time", 0.0)
         self.end = spec.get("end_time", math.inf)
         self.loop = spec.get("loop", False)
@@ -136,7 +137,8 @@ def read_scans(bag_path):
 
 def seen_through(scans, person, spot, after, origin):
     """Whether a beam of a scan after `after` (scene time), with the person gone from the spot,
-    passed through it and beyond. (Beams pass between a standing person's legs.)"""
+    crossed their footprint there (passed within their radius of it, and on past its middle).
+    Beams pass between a standing person's legs, hence only with the person gone."""
     for scan in scans:
         t = scan["stamp"] - origin
         if t <= after:
@@ -147,8 +149,7 @@ def seen_through(scans, person, spot, after, origin):
         vx, vy = spot[0] - scan["x"], spot[1] - scan["y"]
         along = vx * scan["cos"] + vy * scan["sin"]
         across = np.abs(vy * scan["cos"] - vx * scan["sin"])
-        if np.any((along > 0.0) & (across < THROUGH_SPOT) &
-                  (scan["ranges"] > along + THROUGH_SPOT)):
+        if np.any((along > 0.0) & (across < person.radius) & (scan["ranges"] > along)):
             return True
     return False
 

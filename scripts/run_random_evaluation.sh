@@ -138,10 +138,10 @@ rosrun reflectance_field_map rfm_eval --report "$MANIFEST" --out "$REPORT" --pre
   echo
   echo "\`scripts/kept_motion.py\` sorts the true motion beams each map kept by the person they hit"
   echo "(the scene file's people, moved as rfm_sim moves them): walking; standing, and still there"
-  echo "when the recording ends (stays); standing, left later, and no later beam passed within"
-  echo "0.1 m of the spot with the person a metre or more away (left unseen); or some beam did (left,"
-  echo "seen: an upper bound on what a map could have removed). No map can remove the first two kinds"
-  echo "of standing: the recording never shows the spot empty. Shares of all true motion beams."
+  echo "when the recording ends (stays); standing, left later, and no later beam crossed their"
+  echo "footprint with the person a metre or more away (left unseen); or some beam did (left, seen:"
+  echo "an upper bound on what a map could have removed). No map can remove the first two kinds of"
+  echo "standing: the recording never shows the spot empty. Shares of all true motion beams."
   echo
   python3 "$REPO/scripts/kept_motion.py" "$OUT" RFM
   python3 "$REPO/scripts/kept_motion.py" "$OUT" plain_grid | tail -n +3  # one table
