@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Whose motion rays a map kept, and whether any mapper could have removed them.
+"""Whose motion rays a map kept, and whether the recording ever showed those people gone.
 
 Reads the output of scripts/run_random_evaluation.sh (OUT/SETUP/SEED/{sim.bag, scene.yaml,
 MAPPER/labels.bag}) and sorts every true motion beam that MAPPER labelled KEPT by the person it

@@ -134,14 +134,14 @@ rosrun reflectance_field_map rfm_eval --report "$MANIFEST" --out "$REPORT" --pre
   --title "Random scenes: evaluation per sensor setup"
 {
   echo
-  echo "## Kept motion: whose, and could a map have removed it"
+  echo "## Kept motion: whose, and were they seen gone"
   echo
   echo "\`scripts/kept_motion.py\` sorts the true motion beams each map kept by the person they hit"
   echo "(the scene file's people, moved as rfm_sim moves them): walking; standing, and still there"
   echo "when the recording ends (stays); standing, left later, and no later beam crossed their"
   echo "footprint with the person a metre or more away (left unseen); or some beam did (left, seen:"
-  echo "an upper bound on what a map could have removed). No map can remove the first two kinds of"
-  echo "standing: the recording never shows the spot empty. Shares of all true motion beams."
+  echo "an upper bound on what a map could have removed). The recording never shows the first two"
+  echo "kinds of standing gone. Shares of all true motion beams."
   echo
   python3 "$REPO/scripts/kept_motion.py" "$OUT" RFM
   python3 "$REPO/scripts/kept_motion.py" "$OUT" plain_grid | tail -n +3  # one table
