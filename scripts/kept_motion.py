@@ -2,7 +2,7 @@
 """Whose motion rays a map kept, and whether the recording ever showed those people gone.
 
 Reads the output of scripts/run_random_evaluation.sh (OUT/SETUP/SEED/{sim.bag, scene.yaml,
-MAPPER/labels.bag}) and sorts every true motion beam that MAPPER labelled KEPT by the person it
+MAPPER/labels.bag}) and sorts every true motion beam that each MAPPER labelled KEPT by the person it
 hit (the nearest person of the scene file at the scan's stamp, within 0.7 m):
   - walking: the person was moving;
   - standing, stays: standing, and standing there until the recording ends;
@@ -12,9 +12,10 @@ hit (the nearest person of the scene file at the scan's stamp, within 0.7 m):
   - standing, left, seen: some later beam did (at least one: an upper bound on what a map could
     have removed).
 
-    scripts/kept_motion.py OUT [MAPPER]      # MAPPER: RFM (default) or plain_grid
+    scripts/kept_motion.py OUT [MAPPER ...]    # MAPPER: RFM (default), plain_grid
 
-Prints one markdown row per setup and seed split, shares of all true motion beams.
+Prints one markdown table: a row per mapper, setup and seed split, shares of all true motion
+beams. Each simulated bag is read once for all mappers.
 Needs python3-rosbag, python3-numpy and python3-yaml.
 """
 import math
@@ -36,7 +37,6 @@ class Person:
     """A person of the scene file, moved as rfm_sim moves them (src/sim/people.cpp)."""
 
     def __init__(self, spec):
-        self.name = spec["name"]
         self.radius = spec["radius"]  # the footprint: body or legs
         self.start = spec.get("start_time", 0.0)
         self.end = spec.get("end_time", math.inf)
@@ -154,20 +154,29 @@ def seen_through(scans, person, spot, after, origin):
     return False
 
 
-def classify_run(directory, mapper):
-    scene = yaml.safe_load(open(os.path.join(directory, "scene.yaml")))
-    duration = scene["duration"]
-    people = [Person(spec) for spec in scene.get("people", [])]
-    bag_path = os.path.join(directory, "sim.bag")
-    scans, origin = read_scans(bag_path)
+def read_labels(path):
     labels = {}
-    with rosbag.Bag(os.path.join(directory, mapper, "labels.bag")) as bag:
+    with rosbag.Bag(path) as bag:
         for _, msg, _ in bag.read_messages():
             labels[(msg.scan_topic, msg.header.stamp.to_nsec())] = np.frombuffer(
                 msg.labels, dtype=np.uint8)
+    return labels
+
+
+def classify_run(directory, mappers):
+    """Counts per mapper of one simulated run."""
+    scene = yaml.safe_load(open(os.path.join(directory, "scene.yaml")))
+    people = [Person(spec) for spec in scene.get("people", [])]
+    scans, origin = read_scans(os.path.join(directory, "sim.bag"))
+    spots = {}  # (person, x, y) -> "stays" / "left unseen" / "left, seen": the same for every map
+    return {mapper: classify_labels(directory, mapper, scene["duration"], people, scans, origin,
+                                    spots) for mapper in mappers}
+
+
+def classify_labels(directory, mapper, duration, people, scans, origin, spots):
+    labels = read_labels(os.path.join(directory, mapper, "labels.bag"))
     counts = {"motion": 0, "walking": 0, "stays": 0, "left unseen": 0, "left, seen": 0,
               "nobody near": 0}
-    spots = {}
     for scan in scans:
         motion = np.nonzero(scan["truth"] == MOTION)[0]
         counts["motion"] += len(motion)
@@ -205,16 +214,20 @@ def main():
     if len(sys.argv) < 2:
         sys.exit(__doc__)
     out = sys.argv[1]
-    mapper = sys.argv[2] if len(sys.argv) > 2 else "RFM"
-    manifest = os.path.join(out, "manifest.txt")
-    rows = {}
-    with open(manifest) as runs:
-        for line in runs:
+    mappers = sys.argv[2:] or ["RFM"]
+    runs = {}  # (setup, seed) -> split, of the runs that mapped with every mapper asked for
+    configs = {}
+    with open(os.path.join(out, "manifest.txt")) as manifest:
+        for line in manifest:
             config, seed, _, setup, split = line.split()
-            if config != mapper:
-                continue
-            counts = classify_run(os.path.join(out, setup, seed), mapper)
-            total = rows.setdefault((setup, split), {"seeds": 0})
+            runs[(setup, seed)] = split
+            configs.setdefault((setup, seed), set()).add(config)
+    rows = {}
+    for (setup, seed), split in runs.items():
+        if not set(mappers) <= configs[(setup, seed)]:
+            continue
+        for mapper, counts in classify_run(os.path.join(out, setup, seed), mappers).items():
+            total = rows.setdefault((mappers.index(mapper), setup, split), {"seeds": 0})
             total["seeds"] += 1
             for k, v in counts.items():
                 total[k] = total.get(k, 0) + v
@@ -222,11 +235,11 @@ def main():
     print("| setup | seeds | mapper | motion beams | removed (%) | kept, of all motion beams (%): "
           + " / ".join(columns) + " |")
     print("|---|---|---|---:|---:|---|")
-    for (setup, split), c in sorted(rows.items()):
+    for (mapper_index, setup, split), c in sorted(rows.items()):
         kept = sum(c[k] for k in columns)
         share = " / ".join("%.1f" % (100.0 * c[k] / max(c["motion"], 1)) for k in columns)
         print("| %s | %s (%d) | %s | %d | %.1f | %s |" % (
-            setup, split, c["seeds"], mapper, c["motion"],
+            setup, split, c["seeds"], mappers[mapper_index], c["motion"],
             100.0 - 100.0 * kept / max(c["motion"], 1), share))
 
 

@@ -143,8 +143,7 @@ rosrun reflectance_field_map rfm_eval --report "$MANIFEST" --out "$REPORT" --pre
   echo "an upper bound on what a map could have removed). The recording never shows the first two"
   echo "kinds of standing gone. Shares of all true motion beams."
   echo
-  python3 "$REPO/scripts/kept_motion.py" "$OUT" RFM
-  python3 "$REPO/scripts/kept_motion.py" "$OUT" plain_grid | tail -n +3  # one table
+  python3 "$REPO/scripts/kept_motion.py" "$OUT" RFM plain_grid
 } >> "$REPORT"
 cat "$SCENES" >> "$REPORT"
 echo "== wrote $REPORT"
