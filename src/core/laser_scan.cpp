@@ -51,6 +51,29 @@ void reverseBeamOrder(LaserScan2D& scan) {
   std::reverse(scan.ranges.begin(), scan.ranges.end());
 }
 
+bool compensateSweepMotion(LaserScan2D& scan, Pose2D& sensor_pose, const Pose2D& sweep_end_pose,
+                           bool beam0_last) {
+  const size_t beams = scan.ranges.size();
+  if (beams < 2 || !(scan.angle_increment > 0.0f)) return false;
+  const double turn = std::remainder(sweep_end_pose.yaw - sensor_pose.yaw, 2.0 * M_PI);
+  const double per_beam = turn / static_cast<double>(beams - 1);
+  const double increment = scan.angle_increment + (beam0_last ? -per_beam : per_beam);
+  if (!(increment > 0.0) || !std::isfinite(increment)) return false;
+  const double span_beams = (static_cast<double>(scan.angle_max) - scan.angle_min) /
+                            static_cast<double>(scan.angle_increment);
+  scan.angle_increment = static_cast<float>(increment);
+  scan.angle_max = static_cast<float>(scan.angle_min + span_beams * increment);
+  if (beam0_last) sensor_pose.yaw += turn;  // beam 0 was measured at the sweep's end
+  sensor_pose.position = 0.5 * (sensor_pose.position + sweep_end_pose.position);
+  return true;
+}
+
+double sweepEndStamp(double stamp, double time_increment, size_t beams) {
+  if (beams < 2 || !std::isfinite(time_increment)) return stamp;
+  const double sweep = std::abs(time_increment) * static_cast<double>(beams - 1);
+  return sweep > 0.0 && sweep <= kMaxSweepSeconds ? stamp + sweep : stamp;
+}
+
 void mirrorScan(LaserScan2D& scan) {
   // Beam k at angle a_k in the upside-down frame points at -a_k seen from above.
   const float span = scan.angle_max - scan.angle_min;

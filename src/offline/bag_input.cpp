@@ -166,6 +166,7 @@ void readScan(const rosbag::MessageInstance& message, uint32_t topic, BagStretch
   // The node rejects these; a recording is taken as it is.
   source.reversed = scan.scan.angle_increment < 0.0f && !scan.scan.ranges.empty();
   if (source.reversed) reverseBeamOrder(scan.scan);
+  source.sweep_end = source.stamp + (ros_glue::sweepEnd(msg) - msg.header.stamp);
   std::string problem = scan.scan.validate();
   if (problem.empty() && source.frame_id.empty()) problem = "the scan has an empty frame_id";
   if (!problem.empty()) {
@@ -382,6 +383,7 @@ BagScans readBagScans(const BagInputOptions& options,
   const bool bag_has_tf = result.tf_messages > 0;
   std::string frame_without_tf;
   uint64_t upside_down = 0;
+  uint64_t swept = 0;  // scans whose sensor motion during the sweep was compensated
   PoseGate gate(options.max_speed, kPoseJumpSlack);
   result.scans.reserve(scans.size());
   result.sources.reserve(scans.size());
@@ -405,6 +407,8 @@ BagScans readBagScans(const BagInputOptions& options,
           source.reversed = !source.reversed;
           ++upside_down;
         }
+        swept += ros_glue::compensateSweepFromTf(tf, fixed_frame, frame, source.stamp,
+                                                 source.sweep_end, source.reversed, scan);
       }
       if (base_frame == fixed_frame) {
         scan.robot_pose = Pose2D();
@@ -450,6 +454,11 @@ BagScans readBagScans(const BagInputOptions& options,
   if (upside_down > 0) {
     result.notes.push_back(std::to_string(upside_down) +
                            " scans come from a laser mounted upside down: mirrored");
+  }
+  if (swept > 0) {
+    result.notes.push_back(
+        std::to_string(swept) +
+        " scans turned as the sensor turned during their sweep (time_increment)");
   }
   if (!bag_has_tf && base_frame != fixed_frame) {
     result.notes.push_back("no TF in the bag: the base pose is the scan pose");

@@ -56,6 +56,20 @@ std::vector<rfm::RayLabel> toMessageOrder(std::vector<rfm::RayLabel> labels, boo
   return labels;
 }
 
+ros::Time sweepEnd(const sensor_msgs::LaserScan& msg) {
+  return ros::Time().fromSec(
+      rfm::sweepEndStamp(msg.header.stamp.toSec(), msg.time_increment, msg.ranges.size()));
+}
+
+bool compensateSweepFromTf(const tf2::BufferCore& tf, const std::string& fixed_frame,
+                           const std::string& frame, const ros::Time& stamp,
+                           const ros::Time& sweep_end, bool beam0_last, rfm::TimedScan& scan) {
+  if (sweep_end == stamp || !tf.canTransform(fixed_frame, frame, sweep_end)) return false;
+  const PlanarSensorPose end =
+      toPlanarSensorPose(tf.lookupTransform(fixed_frame, frame, sweep_end).transform);
+  return rfm::compensateSweepMotion(scan.scan, scan.sensor_pose, end.pose, beam0_last);
+}
+
 sensor_msgs::LaserScan filterScan(const sensor_msgs::LaserScan& scan,
                                   const std::vector<rfm::RayLabel>& labels) {
   sensor_msgs::LaserScan out = scan;

@@ -244,7 +244,11 @@ bool MapperRos::transformReady(const sensor_msgs::LaserScan& msg, std::string& e
   const std::string frame = tf2FrameId(msg.header.frame_id);
   const ros::Time stamp = msg.header.stamp;
   const ros::Time settled = stamp + ros::Duration(params_.tf_tolerance);
+  // The sensor's pose when its sweep ended turns the beams (rfm::compensateSweepMotion).
+  const ros::Time sweep_end = sweepEnd(msg);
   return tf_buffer_->canTransform(params_.fixed_frame, frame, settled, &error) &&
+         (sweep_end <= settled ||
+          tf_buffer_->canTransform(params_.fixed_frame, frame, sweep_end, &error)) &&
          tf_buffer_->canTransform(params_.fixed_frame, params_.base_frame, settled, &error) &&
          tf_buffer_->canTransform(params_.fixed_frame, frame, stamp, &error) &&
          tf_buffer_->canTransform(params_.fixed_frame, params_.base_frame, stamp, &error);
@@ -369,6 +373,8 @@ void MapperRos::processScan(ScanInput& input, ArrivedScan arrived) {
   if (sensor.upside_down) rfm::mirrorScan(timed.scan);
   timed.sensor_pose = sensor.pose;
   timed.robot_pose = toPose2D(robot_tf.transform);
+  compensateSweepFromTf(*tf_buffer_, params_.fixed_frame, laser_frame, msg->header.stamp,
+                        sweepEnd(*msg), sensor.upside_down, timed);
 
   const bool want_labels =
       input.filtered_pub.getNumSubscribers() > 0 || input.labels_pub.getNumSubscribers() > 0;

@@ -216,5 +216,114 @@ TEST(MirrorScan, NegatesEveryBeamsDirectionAndKeepsTheCountCheck) {
   EXPECT_NE(truncated.validate().find("2 ranges"), std::string::npos) << truncated.validate();
 }
 
+// A sensor moving at constant speed and turn rate while it sweeps: beam k is measured at time
+// k * dt from the pose reached then. `sweep_sign` -1 measures the beams from the last angle down
+// (a clockwise sensor), as the message lists them.
+struct SweepingSensor {
+  Pose2D start{{1.0, 2.0}, 0.3};
+  Eigen::Vector2d velocity{0.9, -0.3};  // m/s
+  double turn_rate = 1.0;               // rad/s
+  double dt = 1e-4;                     // s between beams: a 0.1 s sweep of 1001 beams
+
+  Pose2D at(double t) const { return {start.position + t * velocity, start.yaw + t * turn_rate}; }
+  // The true end point of each beam of `scan` (ranges as given; beam i measured at i * dt).
+  std::vector<Eigen::Vector2d> endPoints(const LaserScan2D& scan) const {
+    std::vector<Eigen::Vector2d> ends;
+    for (size_t i = 0; i < scan.ranges.size(); ++i) {
+      const Pose2D pose = at(static_cast<double>(i) * dt);
+      const double angle = pose.yaw + scan.angle_min + scan.angle_increment * i;
+      ends.push_back(pose.position +
+                     scan.ranges[i] * Eigen::Vector2d(std::cos(angle), std::sin(angle)));
+    }
+    return ends;
+  }
+};
+
+// The largest distance between the rays' ends and the true end points of their beams
+// (`beam_of(ray.beam)`: the measured beam's index).
+template <typename BeamOf>
+double largestEndError(const LaserScan2D& scan, const Pose2D& pose,
+                       const std::vector<Eigen::Vector2d>& truth, BeamOf beam_of) {
+  std::vector<Ray> rays;
+  scanToRays(scan, pose, InsertionOptions(), rays);
+  EXPECT_EQ(rays.size(), truth.size());
+  double largest = 0.0;
+  for (const Ray& ray : rays)
+    largest = std::max(largest, (ray.end - truth[beam_of(ray.beam)]).norm());
+  return largest;
+}
+
+LaserScan2D sweptScan(size_t beams, float angle_min, float increment) {
+  LaserScan2D scan;
+  scan.angle_min = angle_min;
+  scan.angle_increment = increment;
+  scan.angle_max = angle_min + increment * static_cast<float>(beams - 1);
+  scan.range_min = 0.1f;
+  scan.range_max = 30.0f;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> range(1.0f, 12.0f);
+  for (size_t i = 0; i < beams; ++i)
+    scan.ranges.push_back(range(rng));
+  return scan;
+}
+
+TEST(CompensateSweepMotion, PutsEveryBeamWhereTheMovingSensorMeasuredIt) {
+  const SweepingSensor sensor;
+  const size_t beams = 1001;
+  const double sweep = sensor.dt * (beams - 1);
+  const double half_path = 0.5 * sweep * sensor.velocity.norm();  // the shared origin's offset
+  const auto same = [](uint32_t beam) { return beam; };
+
+  LaserScan2D scan = sweptScan(beams, -2.0f, 0.004f);
+  const std::vector<Eigen::Vector2d> truth = sensor.endPoints(scan);
+  // At the pose of the first beam alone, the last beams are off by the sweep's turn (0.1 rad).
+  EXPECT_GT(largestEndError(scan, sensor.start, truth, same), 0.5);
+  Pose2D pose = sensor.start;
+  ASSERT_TRUE(compensateSweepMotion(scan, pose, sensor.at(sweep), false));
+  EXPECT_EQ(scan.validate(), "");
+  EXPECT_LE(largestEndError(scan, pose, truth, same), half_path + 1e-6);
+}
+
+TEST(CompensateSweepMotion, TurnsReversedBeamsFromTheSweepsEnd) {
+  // A clockwise sensor: the message's beam i (measured at i * dt) heads 1.5 - 0.004 i.
+  const SweepingSensor sensor;
+  const size_t beams = 1001;
+  const double sweep = sensor.dt * (beams - 1);
+  LaserScan2D scan = sweptScan(beams, 1.5f, -0.004f);
+  const std::vector<Eigen::Vector2d> truth = sensor.endPoints(scan);
+  reverseBeamOrder(scan);  // as the mapper takes it: beam j was measured (beams - 1 - j)-th
+  const auto measured = [&](uint32_t beam) { return beams - 1 - beam; };
+  Pose2D pose = sensor.start;
+  EXPECT_GT(largestEndError(scan, pose, truth, measured), 0.5);
+  ASSERT_TRUE(compensateSweepMotion(scan, pose, sensor.at(sweep), true));
+  EXPECT_EQ(scan.validate(), "");
+  EXPECT_LE(largestEndError(scan, pose, truth, measured),
+            0.5 * sweep * sensor.velocity.norm() + 1e-6);
+}
+
+TEST(CompensateSweepMotion, LeavesScansItCannotTurnUnchanged) {
+  LaserScan2D scan = sweptScan(101, -1.0f, 0.01f);
+  const LaserScan2D before = scan;
+  const Pose2D start{{0.0, 0.0}, 0.0};
+  // Turning back by more than the sweep covers would reverse the beams' order.
+  Pose2D pose = start;
+  EXPECT_FALSE(compensateSweepMotion(scan, pose, Pose2D{{0.1, 0.0}, -1.5}, false));
+  EXPECT_EQ(scan.angle_increment, before.angle_increment);
+  EXPECT_EQ(scan.angle_max, before.angle_max);
+  EXPECT_EQ(pose.position, start.position);
+  LaserScan2D single = sweptScan(1, 0.0f, 0.01f);
+  EXPECT_FALSE(compensateSweepMotion(single, pose, Pose2D{{0.1, 0.0}, 0.1}, false));
+}
+
+TEST(SweepEndStamp, AddsTheSweepOnlyWhenTheMessageGivesOne) {
+  EXPECT_DOUBLE_EQ(sweepEndStamp(10.0, 1e-4, 1001), 10.1);
+  EXPECT_DOUBLE_EQ(sweepEndStamp(10.0, -1e-4, 1001), 10.1);  // a clockwise sensor's sign
+  EXPECT_EQ(sweepEndStamp(10.0, 0.0, 1001), 10.0);
+  EXPECT_EQ(sweepEndStamp(10.0, std::numeric_limits<double>::quiet_NaN(), 1001), 10.0);
+  EXPECT_EQ(sweepEndStamp(10.0, std::numeric_limits<double>::infinity(), 1001), 10.0);
+  EXPECT_EQ(sweepEndStamp(10.0, 0.01, 1001), 10.0);  // a 10 s sweep: not a lidar's
+  EXPECT_EQ(sweepEndStamp(10.0, 1e-4, 1), 10.0);
+}
+
 }  // namespace
 }  // namespace rfm

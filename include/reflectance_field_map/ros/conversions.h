@@ -5,6 +5,7 @@
 #include "reflectance_field_map/core/global_map.h"
 #include "reflectance_field_map/core/grid_geometry.h"
 #include "reflectance_field_map/core/laser_scan.h"
+#include "reflectance_field_map/core/mapper.h"
 
 #include <geometry_msgs/Quaternion.h>
 #include <geometry_msgs/Transform.h>
@@ -12,6 +13,7 @@
 #include <nav_msgs/OccupancyGrid.h>
 #include <sensor_msgs/LaserScan.h>
 #include <std_msgs/ColorRGBA.h>
+#include <tf2/buffer_core.h>
 #include <visualization_msgs/Marker.h>
 
 #include <string>
@@ -43,6 +45,18 @@ PlanarSensorPose toPlanarSensorPose(const geometry_msgs::Transform& transform);
 // come back to message order through toMessageOrder().
 rfm::LaserScan2D toLaserScan2D(const sensor_msgs::LaserScan& msg, bool upside_down = false);
 std::vector<rfm::RayLabel> toMessageOrder(std::vector<rfm::RayLabel> labels, bool upside_down);
+
+// When the scan's last beam was measured (rfm::sweepEndStamp): its stamp when the message gives
+// no sweep (time_increment 0).
+ros::Time sweepEnd(const sensor_msgs::LaserScan& msg);
+
+// Turns the beams of `scan` (placed at `scan.sensor_pose`, the pose of `frame` at the scan's
+// stamp) as the sensor turned during its sweep (rfm::compensateSweepMotion), from TF's pose of
+// `frame` at `sweep_end`. `beam0_last`: the beams are in the reverse of their measured order.
+// False, changing nothing, when `sweep_end` is `stamp` or TF has no pose for it.
+bool compensateSweepFromTf(const tf2::BufferCore& tf, const std::string& fixed_frame,
+                           const std::string& frame, const ros::Time& stamp,
+                           const ros::Time& sweep_end, bool beam0_last, rfm::TimedScan& scan);
 
 // The scan with every MOTION and REFLECTION beam set to +inf (REP-117: no return); `labels`
 // in message order, one per beam (beams without a label are left as they are).
