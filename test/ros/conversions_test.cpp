@@ -3,7 +3,9 @@
 // message's beam order, filtered scans, and the OccupancyGrid / OccupancyGridUpdate geometry.
 #include "reflectance_field_map/ros/conversions.h"
 
+#include <geometry_msgs/TransformStamped.h>
 #include <gtest/gtest.h>
+#include <tf2/buffer_core.h>
 #include <Eigen/Geometry>
 
 #include <cmath>
@@ -170,6 +172,59 @@ TEST(Conversions, CoreScanEndsWhereTheLaserBeamsEndInSpace) {
           << "upside down " << mounted_upside_down << ", beam " << i;
     }
   }
+}
+
+// A laser turning at a constant rate while it sweeps (time_increment): after
+// compensateSweepFromTf each core beam ends where the message's beam ended when it was measured,
+// upright or upside down, from TF's poses at the first and the last beam.
+TEST(Conversions, SweptScanEndsWhereEachBeamWasMeasured) {
+  sensor_msgs::LaserScan msg =
+      makeMessage(-2.0f, 0.25f, {1.0f, 2.5f, 3.0f, 4.0f, 0.5f, 6.0f, 7.5f, 2.0f});
+  const double start = 100.0, time_increment = 0.01, turn_rate = 2.0;  // 0.14 rad a sweep
+  msg.header.stamp = ros::Time(start);
+  msg.time_increment = static_cast<float>(time_increment);
+  const size_t n = msg.ranges.size();
+  const ros::Time sweep_end = sweepEnd(msg);
+  EXPECT_NEAR((sweep_end - msg.header.stamp).toSec(), time_increment * (n - 1), 1e-7);  // float
+  const Eigen::Vector3d translation(1.0, 2.0, 0.3);
+  for (const bool mounted_upside_down : {false, true}) {
+    const auto rotationAt = [&](double t) {
+      return yawRollPitch(0.7 + turn_rate * (t - start), mounted_upside_down ? M_PI : 0.0);
+    };
+    tf2::BufferCore tf;
+    for (const double t : {start, sweep_end.toSec()}) {
+      geometry_msgs::TransformStamped stamped;
+      stamped.header.stamp = ros::Time(t);
+      stamped.header.frame_id = "odom";
+      stamped.child_frame_id = "laser";
+      stamped.transform = makeTransform(translation, rotationAt(t));
+      tf.setTransform(stamped, "test");
+    }
+    const PlanarSensorPose sensor =
+        toPlanarSensorPose(tf.lookupTransform("odom", "laser", msg.header.stamp).transform);
+    rfm::TimedScan timed;
+    timed.scan = toLaserScan2D(msg, sensor.upside_down);
+    timed.sensor_pose = sensor.pose;
+    ASSERT_TRUE(compensateSweepFromTf(tf, "odom", "laser", msg.header.stamp, sweep_end,
+                                      sensor.upside_down, timed));
+    EXPECT_EQ(timed.scan.validate(), "");
+    for (size_t i = 0; i < n; ++i) {
+      const size_t k = mounted_upside_down ? n - 1 - i : i;  // the message beam it came from
+      const double measured = start + time_increment * static_cast<double>(k);
+      const Eigen::Vector2d expected = trueEnd(msg, k, translation, rotationAt(measured));
+      const Eigen::Vector2d actual = coreEnd(timed.scan, timed.sensor_pose, i);
+      EXPECT_NEAR((actual - expected).norm(), 0.0, 1e-4)
+          << "upside down " << mounted_upside_down << ", beam " << i;
+    }
+    // Without a pose at the sweep's end nothing changes.
+    rfm::TimedScan later = timed;
+    EXPECT_FALSE(compensateSweepFromTf(tf, "odom", "laser", msg.header.stamp,
+                                       sweep_end + ros::Duration(1.0), sensor.upside_down, later));
+    EXPECT_EQ(later.scan.angle_increment, timed.scan.angle_increment);
+  }
+  // A message that gives no sweep ends at its stamp.
+  msg.time_increment = 0.0f;
+  EXPECT_EQ(sweepEnd(msg), msg.header.stamp);
 }
 
 // Labels computed on the core scan of an upside-down laser come back in message order: the
