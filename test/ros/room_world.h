@@ -40,6 +40,7 @@ inline float roomRange(double ox, double oy, double angle) {
 class RoomWorld {
  public:
   static constexpr int kBeams = 360;
+  static constexpr double kSweepSeconds = 0.02;
   static constexpr double kLaserOffset = 0.3;  // lasers at +-0.3 m in base_link
 
   // `clock` gives the stamps: ROS time by default, the test's own clock under simulated time.
@@ -152,6 +153,10 @@ class RoomWorld {
     scan.angle_max = scan.angle_min + (beams - 1) * scan.angle_increment;
     scan.range_min = 0.05f;
     scan.range_max = 20.0f;
+    // Swept beam by beam over 20 ms, as a Hokuyo's 25 ms revolution: the node waits for the
+    // transform at the last beam too, one tick later.
+    scan.time_increment = static_cast<float>(kSweepSeconds / (beams - 1));
+    scan.scan_time = static_cast<float>(kSweepSeconds);
     scan.ranges.resize(static_cast<size_t>(beams));
     const double lx = x_ + (front ? kLaserOffset : -kLaserOffset);
     const double heading = front ? 0.0 : M_PI;
