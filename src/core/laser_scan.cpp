@@ -68,10 +68,10 @@ bool compensateSweepMotion(LaserScan2D& scan, Pose2D& sensor_pose, const Pose2D&
   return true;
 }
 
-double sweepEndStamp(double stamp, double time_increment, size_t beams) {
-  if (beams < 2 || !std::isfinite(time_increment)) return stamp;
+double sweepSeconds(double time_increment, size_t beams) {
+  if (beams < 2 || !std::isfinite(time_increment)) return 0.0;
   const double sweep = std::abs(time_increment) * static_cast<double>(beams - 1);
-  return sweep > 0.0 && sweep <= kMaxSweepSeconds ? stamp + sweep : stamp;
+  return sweep <= kMaxSweepSeconds ? sweep : 0.0;
 }
 
 void mirrorScan(LaserScan2D& scan) {

@@ -57,8 +57,8 @@ std::vector<rfm::RayLabel> toMessageOrder(std::vector<rfm::RayLabel> labels, boo
 }
 
 ros::Time sweepEnd(const sensor_msgs::LaserScan& msg) {
-  return ros::Time().fromSec(
-      rfm::sweepEndStamp(msg.header.stamp.toSec(), msg.time_increment, msg.ranges.size()));
+  // Added as a duration: a stamp does not survive a round trip through seconds as a double.
+  return msg.header.stamp + ros::Duration(rfm::sweepSeconds(msg.time_increment, msg.ranges.size()));
 }
 
 bool compensateSweepFromTf(const tf2::BufferCore& tf, const std::string& fixed_frame,

@@ -315,14 +315,14 @@ TEST(CompensateSweepMotion, LeavesScansItCannotTurnUnchanged) {
   EXPECT_FALSE(compensateSweepMotion(single, pose, Pose2D{{0.1, 0.0}, 0.1}, false));
 }
 
-TEST(SweepEndStamp, AddsTheSweepOnlyWhenTheMessageGivesOne) {
-  EXPECT_DOUBLE_EQ(sweepEndStamp(10.0, 1e-4, 1001), 10.1);
-  EXPECT_DOUBLE_EQ(sweepEndStamp(10.0, -1e-4, 1001), 10.1);  // a clockwise sensor's sign
-  EXPECT_EQ(sweepEndStamp(10.0, 0.0, 1001), 10.0);
-  EXPECT_EQ(sweepEndStamp(10.0, std::numeric_limits<double>::quiet_NaN(), 1001), 10.0);
-  EXPECT_EQ(sweepEndStamp(10.0, std::numeric_limits<double>::infinity(), 1001), 10.0);
-  EXPECT_EQ(sweepEndStamp(10.0, 0.01, 1001), 10.0);  // a 10 s sweep: not a lidar's
-  EXPECT_EQ(sweepEndStamp(10.0, 1e-4, 1), 10.0);
+TEST(SweepSeconds, CountsTheSweepOnlyWhenTheMessageGivesOne) {
+  EXPECT_DOUBLE_EQ(sweepSeconds(1e-4, 1001), 0.1);
+  EXPECT_DOUBLE_EQ(sweepSeconds(-1e-4, 1001), 0.1);  // a clockwise sensor's sign
+  EXPECT_EQ(sweepSeconds(0.0, 1001), 0.0);
+  EXPECT_EQ(sweepSeconds(std::numeric_limits<double>::quiet_NaN(), 1001), 0.0);
+  EXPECT_EQ(sweepSeconds(std::numeric_limits<double>::infinity(), 1001), 0.0);
+  EXPECT_EQ(sweepSeconds(0.01, 1001), 0.0);  // a 10 s sweep: not a lidar's
+  EXPECT_EQ(sweepSeconds(1e-4, 1), 0.0);
 }
 
 }  // namespace

@@ -222,8 +222,10 @@ TEST(Conversions, SweptScanEndsWhereEachBeamWasMeasured) {
                                        sweep_end + ros::Duration(1.0), sensor.upside_down, later));
     EXPECT_EQ(later.scan.angle_increment, timed.scan.angle_increment);
   }
-  // A message that gives no sweep ends at its stamp.
+  // A message that gives no sweep ends at its stamp, to the nanosecond (a wall-clock stamp does
+  // not survive a round trip through seconds as a double).
   msg.time_increment = 0.0f;
+  msg.header.stamp = ros::Time(1700000000, 123456789);
   EXPECT_EQ(sweepEnd(msg), msg.header.stamp);
 }
 

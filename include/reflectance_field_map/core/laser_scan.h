@@ -48,11 +48,11 @@ void mirrorScan(LaserScan2D& scan);
 bool compensateSweepMotion(LaserScan2D& scan, Pose2D& sensor_pose, const Pose2D& sweep_end_pose,
                            bool beam0_last);
 
-// When a scan's last beam was measured: `stamp` (its first beam, REP-117) plus the sweep,
-// (beams - 1) * |time_increment|; `stamp` itself when the message gives no usable sweep
-// (time_increment zero or not finite, or a sweep over `kMaxSweepSeconds`).
+// How long after its stamp (its first beam, REP-117) a scan's last beam was measured:
+// (beams - 1) * |time_increment|; 0 when the message gives no usable sweep (time_increment zero
+// or not finite, or a sweep over `kMaxSweepSeconds`).
 constexpr double kMaxSweepSeconds = 1.0;
-double sweepEndStamp(double stamp, double time_increment, size_t beams);
+double sweepSeconds(double time_increment, size_t beams);
 
 // One beam ready for insertion, in the fixed frame.
 struct Ray {

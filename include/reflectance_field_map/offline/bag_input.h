@@ -50,7 +50,7 @@ struct ScanSource {
   ros::Time bag_time;  // time the scan was recorded in the bag
   std::string frame_id;
   bool reversed = false;  // angle_increment < 0 in the bag: beams were reversed for the core
-  ros::Time sweep_end;    // when the last beam was measured (sweepEndStamp): stamp if unknown
+  ros::Time sweep_end;    // when the last beam was measured (ros_glue::sweepEnd): stamp if unknown
 };
 
 struct BagScans {

@@ -46,8 +46,8 @@ PlanarSensorPose toPlanarSensorPose(const geometry_msgs::Transform& transform);
 rfm::LaserScan2D toLaserScan2D(const sensor_msgs::LaserScan& msg, bool upside_down = false);
 std::vector<rfm::RayLabel> toMessageOrder(std::vector<rfm::RayLabel> labels, bool upside_down);
 
-// When the scan's last beam was measured (rfm::sweepEndStamp): its stamp when the message gives
-// no sweep (time_increment 0).
+// When the scan's last beam was measured (its stamp + rfm::sweepSeconds): exactly its stamp when
+// the message gives no sweep (time_increment 0).
 ros::Time sweepEnd(const sensor_msgs::LaserScan& msg);
 
 // Turns the beams of `scan` (placed at `scan.sensor_pose`, the pose of `frame` at the scan's
