@@ -1,5 +1,7 @@
 #include "reflectance_field_map/ros/conversions.h"
 
+#include <tf2/exceptions.h>
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -64,10 +66,15 @@ ros::Time sweepEnd(const sensor_msgs::LaserScan& msg) {
 bool compensateSweepFromTf(const tf2::BufferCore& tf, const std::string& fixed_frame,
                            const std::string& frame, const ros::Time& stamp,
                            const ros::Time& sweep_end, bool beam0_last, rfm::TimedScan& scan) {
-  if (sweep_end == stamp || !tf.canTransform(fixed_frame, frame, sweep_end)) return false;
-  const PlanarSensorPose end =
-      toPlanarSensorPose(tf.lookupTransform(fixed_frame, frame, sweep_end).transform);
-  return rfm::compensateSweepMotion(scan.scan, scan.sensor_pose, end.pose, beam0_last);
+  if (sweep_end == stamp) return false;
+  geometry_msgs::TransformStamped end;
+  try {
+    end = tf.lookupTransform(fixed_frame, frame, sweep_end);
+  } catch (const tf2::TransformException&) {
+    return false;  // no pose then (yet, or any more): the scan stays as stamped
+  }
+  return rfm::compensateSweepMotion(scan.scan, scan.sensor_pose,
+                                    toPlanarSensorPose(end.transform).pose, beam0_last);
 }
 
 sensor_msgs::LaserScan filterScan(const sensor_msgs::LaserScan& scan,
