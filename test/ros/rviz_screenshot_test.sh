@@ -18,7 +18,9 @@ rosrun reflectance_field_map rfm_sim --scene "$PKG/config/scenes/atrium.yaml" \
 cat > "$WORK/inside_x.sh" <<INNER
 result=1
 # A port the OS reports free; should another process take it before the master binds it,
-# roslaunch fails at once and the next attempt uses another port.
+# roslaunch fails at once and the next attempt uses another port. rviz itself sometimes dies as
+# it starts under Xvfb (std::bad_alloc in its OpenGL set-up, before it reads a message): that
+# attempt ends at once and the next one starts rviz anew.
 for attempt in 1 2 3; do
   port=\$(/usr/bin/python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
   export ROS_MASTER_URI=http://127.0.0.1:\$port
@@ -28,6 +30,7 @@ for attempt in 1 2 3; do
   deadline=\$((SECONDS + 240))
   while [ \$SECONDS -lt \$deadline ] && kill -0 \$L 2>/dev/null; do
     sleep 2  # polling interval
+    grep -q "\\[rviz-[0-9]*\\] process has died" $WORK/launch.log && break
     import -window root $OUT 2>/dev/null || continue
     # Inside the 3D view (between the docks): blue: glass markers (0.1, 0.35, 1.0); grey: free map cells drawn by the Map display.
     counts=\$(convert $OUT -crop 560x520+360+90 +repage -depth 8 rgb:- | /usr/bin/python3 -c '
@@ -47,8 +50,14 @@ print(blue, grey)')
   done
   kill -INT \$L 2>/dev/null; wait \$L
   [ \$result -eq 0 ] && break
-  grep -q "Address already in use" $WORK/launch.log || break  # another failure: report it
-  echo "attempt \$attempt: port \$port was taken, retrying" >> $WORK/retries.log
+  if grep -q "Address already in use" $WORK/launch.log; then
+    echo "attempt \$attempt: port \$port was taken, retrying" >> $WORK/retries.log
+  elif grep -q "\\[rviz-[0-9]*\\] process has died" $WORK/launch.log; then
+    cp $WORK/launch.log $WORK/launch.\$attempt.log
+    echo "attempt \$attempt: rviz died as it started, retrying" >> $WORK/retries.log
+  else
+    break  # another failure: report it
+  fi
 done
 exit \$result
 INNER
