@@ -166,7 +166,8 @@ void readScan(const rosbag::MessageInstance& message, uint32_t topic, BagStretch
   // The node rejects these; a recording is taken as it is.
   source.reversed = scan.scan.angle_increment < 0.0f && !scan.scan.ranges.empty();
   if (source.reversed) reverseBeamOrder(scan.scan);
-  source.sweep_end = source.stamp + (ros_glue::sweepEnd(msg) - msg.header.stamp);
+  source.sweep_end =
+      source.stamp + ros::Duration(sweepSeconds(msg.time_increment, msg.ranges.size()));
   std::string problem = scan.scan.validate();
   if (problem.empty() && source.frame_id.empty()) problem = "the scan has an empty frame_id";
   if (!problem.empty()) {
