@@ -7,6 +7,7 @@
 #include "reflectance_field_map/ros/latency_histogram.h"
 #include "reflectance_field_map/ros/map_directory.h"
 #include "reflectance_field_map/ros/parameters.h"
+#include "reflectance_field_map/ros/transform_listener_thread.h"
 
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <diagnostic_updater/update_functions.h>
@@ -14,7 +15,6 @@
 #include <sensor_msgs/LaserScan.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/buffer.h>
-#include <tf2_ros/transform_listener.h>
 
 #include <boost/signals2/connection.hpp>
 
@@ -111,16 +111,16 @@ class MapperRos {
   bool transformReady(const sensor_msgs::LaserScan& msg, std::string& error) const;
   void processScan(ScanInput& input, ArrivedScan arrived);
   void tfFailure(ScanInput& input, const sensor_msgs::LaserScanConstPtr& msg, TfFailure reason);
-  // On tf2's listener thread: notes the change and queues releaseWaiting on this node's
+  // On the TF listener's thread: notes the change and queues releaseWaiting on this node's
   // callback queue.
   void onTransformsChanged();
   // Whether any scan waits (scans_waiting_), after the queues changed.
   void updateScansWaiting();
   uint64_t callbackOwnerId() const;  // of the calls this node queues
 
-  void motionRemovalTimer(const ros::TimerEvent& event);
-  void mapTimer(const ros::TimerEvent& event);
-  void markerTimer(const ros::TimerEvent& event);
+  void motionRemovalTimer(const ros::WallTimerEvent& event);
+  void mapTimer(const ros::WallTimerEvent& event);
+  void markerTimer(const ros::WallTimerEvent& event);
   void statsTimer(const ros::WallTimerEvent& event);
   void watchdogTimer(const ros::WallTimerEvent& event);
   void tfWaitTimer(const ros::WallTimerEvent& event);
@@ -191,15 +191,15 @@ class MapperRos {
   LatencyHistogram scan_age_;
 
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
-  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  std::unique_ptr<TransformListenerThread> tf_listener_;
   std::vector<std::unique_ptr<ScanInput>> inputs_;
 
   ros::Publisher map_pub_, map_update_pub_, glass_pub_, motion_pub_, stats_pub_;
   ros::ServiceServer save_service_, load_service_, reset_service_;
-  ros::Timer motion_timer_, map_timer_, marker_timer_;
-  ros::WallTimer stats_timer_, watchdog_timer_, diagnostics_timer_, tf_wait_timer_;
-  boost::signals2::connection transforms_changed_;  // tf2's listener -> onTransformsChanged
-  std::atomic<bool> scans_waiting_{false};          // read on tf2's listener thread
+  ros::WallTimer motion_timer_, map_timer_, marker_timer_, stats_timer_, watchdog_timer_,
+      diagnostics_timer_, tf_wait_timer_;
+  boost::signals2::connection transforms_changed_;  // TF listener -> onTransformsChanged
+  std::atomic<bool> scans_waiting_{false};          // read on the TF listener's thread
   std::atomic<bool> release_queued_{false};         // a releaseWaiting call is queued
   // steady_clock nanoseconds of the first transform since the last release pass (0: none).
   std::atomic<int64_t> buffer_changed_ns_{0};
