@@ -141,8 +141,8 @@ void MapperRos::setRosInterfaces() {
   reset_service_ = private_nh_.advertiseService("reset", &MapperRos::reset, this);
 
   // Every timer runs on wall time. Under simulated time (a replay) roscpp's ROS-time timer
-  // thread wakes every millisecond to look at the clock, about 3 % of a core for nothing; the
-  // motion-removal pass follows the scans' own clock anyway (processScan). Wall timers also keep
+  // thread wakes every millisecond to look at the clock, 1-3 % of a core for nothing; the
+  // motion-removal passes follow the scans' own clock anyway (processScan). Wall timers also keep
   // running while a replay is paused and after ROS time jumps back.
   motion_timer_ = nh_.createWallTimer(
       ros::WallDuration(1.0 / params_.mapper.motion_removal.motion_removal_rate),
