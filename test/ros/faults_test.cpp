@@ -177,9 +177,8 @@ bool wallsMapped() {
          node->map.occupiedNear(rfm_test::kRoomHalfX, 0.0);
 }
 
-// Every scan published so far is processed or dropped, and /rfm/stats says so.
-// Counted from /diagnostics, on wall time: /rfm/stats follows ROS time, whose timers may wait
-// out a clock jump back before they fire again.
+// Every scan published so far is processed or dropped, as the node's /diagnostics (a wall
+// timer's, so they keep coming through a clock jump back) count them.
 uint64_t processed() {
   return node->value("Mapper", "Scans processed");
 }
