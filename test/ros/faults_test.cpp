@@ -6,19 +6,22 @@
 // The test owns /clock, so simulated time is exactly what it publishes. Each fault must be
 // counted under its own reason, must not reset or grow the map (except the clock jump, which
 // must reset it), and mapping must go on afterwards. Throughout, every scan published is
-// accounted for: processed or dropped (/rfm/stats). Every wait is a condition with a deadline.
+// accounted for: processed or dropped (the node's diagnostics). The node's TF listener is also
+// run on its own against the room's transforms. Every wait is a condition with a deadline.
 #include "map_copy.h"
 #include "reflectance_field_map/LoadMap.h"
 #include "reflectance_field_map/RfmStats.h"
 #include "reflectance_field_map/SaveMap.h"
 #include "reflectance_field_map/core/global_map.h"
 #include "reflectance_field_map/core/state_file.h"
+#include "reflectance_field_map/ros/transform_listener_thread.h"
 #include "room_world.h"
 
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 #include <rosgraph_msgs/Clock.h>
+#include <tf2_ros/buffer.h>
 
 #include <algorithm>
 #include <atomic>
@@ -450,6 +453,23 @@ TEST(Faults, AClockJumpBackResetsTheMap) {
 }
 
 }  // namespace
+
+// The node's TF listener: a buffer of its own fills from the room's /tf and latched /tf_static
+// on the listener's thread (the test's spinner never serves its queue), and the listener stops
+// when it goes out of scope.
+TEST(TransformListenerThread, FillsItsBufferFromTfAndTfStatic) {
+  world->paused_ = false;  // odometry on /tf again
+  tf2_ros::Buffer buffer;
+  {
+    ros::NodeHandle nh;
+    rfm::ros_glue::TransformListenerThread listener(buffer, nh);
+    EXPECT_TRUE(
+        waitFor([&] { return buffer.canTransform("odom", "laser_rear", ros::Time(0)); }, 10.0))
+        << buffer.allFramesAsString();
+  }
+  EXPECT_TRUE(buffer.canTransform("odom", "laser_rear", ros::Time(0)));
+  pauseAndSettle();
+}
 
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
