@@ -455,8 +455,8 @@ TEST(Faults, AClockJumpBackResetsTheMap) {
 }  // namespace
 
 // The node's TF listener: a buffer of its own fills from the room's /tf and latched /tf_static
-// on the listener's thread (the test's spinner never serves its queue), and the listener stops
-// when it goes out of scope.
+// on the listener's thread (the test's spinner never serves its queue), and going out of scope
+// joins that thread (a hang would run into the test's time limit) and keeps what it received.
 TEST(TransformListenerThread, FillsItsBufferFromTfAndTfStatic) {
   world->paused_ = false;  // odometry on /tf again
   tf2_ros::Buffer buffer;
