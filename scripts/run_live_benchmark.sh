@@ -22,7 +22,8 @@
 #   RATES           replay rates (default "1 2 5 10")
 #   SCENES          simulated scenes (default "atrium")
 #   CAMPUS_SECONDS  s of the campus recording replayed (default 1800), at CAMPUS_RATE (default 20)
-#   RECORDINGS      which of "sim stationary campus" to replay (default: all three)
+#   RECORDINGS      which of "sim stationary campus idle" to run (default: all four); idle is a
+#                   node with no data at all for IDLE_SECONDS (default 20): its CPU share
 #   NODE_PARAMS     extra node parameters for every run, as NAME:=VALUE (e.g. insertion_threads:=1)
 #   PORT            the master's port (default: a free one)
 set -euo pipefail
@@ -33,7 +34,8 @@ RATES="${RATES:-1 2 5 10}"
 SCENES="${SCENES:-atrium}"
 CAMPUS_SECONDS="${CAMPUS_SECONDS:-1800}"
 CAMPUS_RATE="${CAMPUS_RATE:-20}"
-RECORDINGS="${RECORDINGS:-sim stationary campus}"
+RECORDINGS="${RECORDINGS:-sim stationary campus idle}"
+IDLE_SECONDS="${IDLE_SECONDS:-20}"
 read -r -a node_params <<< "${NODE_PARAMS:-}"
 DATA="$rfm_source_dir/../shared/data/real"
 PY=/usr/bin/python3  # Debian's, with rospy
@@ -57,21 +59,28 @@ done
 PORT="${PORT:-$("$PY" -c 'import socket; s = socket.socket(); s.bind(("", 0)); print(s.getsockname()[1])')}"
 rfm_start_master "$PORT" "$OUT/roscore.log"
 
-# run NAME BAG RATE TOPICS SCANS [PARAM:=VALUE...]: one replay through a fresh node.
-run() {
-  local name="$1" bag="$2" rate="$3" topics="$4" scans="$5"
-  shift 5
-  local result="$OUT/runs/$name.json"
+# start_node NAME TOPICS [PARAM:=VALUE...]: a fresh node with config/default.yaml, ready once its
+# services are up; sets node (to stop) and node_pid (the rfm_node process).
+start_node() {
+  local name="$1" topics="$2"
+  shift 2
   rosparam delete /rfm > /dev/null 2>&1 || true
   rosparam load "$rfm_source_dir/config/default.yaml" /rfm
   rosparam set /rfm/scan_topics "[$(sed 's/,/, /g' <<< "$topics")]"
   local assignment
   for assignment in ${node_params[@]+"${node_params[@]}"} "$@"; do rosparam set "/rfm/${assignment%%:=*}" "${assignment#*:=}"; done
   rosrun reflectance_field_map rfm_node __name:=rfm > "$OUT/runs/$name.node.log" 2>&1 &
-  local node=$!
+  node=$!
   for _ in $(seq 150); do rosservice list 2>/dev/null | grep -q /rfm/save_map && break; sleep 0.2; done
-  local node_pid
   node_pid="$(pgrep -P "$node" rfm_node || echo "$node")"  # rosrun may exec or fork
+}
+
+# run NAME BAG RATE TOPICS SCANS [PARAM:=VALUE...]: one replay through a fresh node.
+run() {
+  local name="$1" bag="$2" rate="$3" topics="$4" scans="$5"
+  shift 5
+  local result="$OUT/runs/$name.json"
+  start_node "$name" "$topics" "$@"
   rm -f "$result.ready"
   "$PY" "$PROBE" --pid "$node_pid" --topics "$topics" --expect "$scans" --out "$result" \
     > "$OUT/runs/$name.probe.log" 2>&1 &
@@ -132,6 +141,25 @@ if [[ " $RECORDINGS " == *" campus "* ]]; then
   run campus_map_1hz "$OUT/bags/campus.bag" "$CAMPUS_RATE" /scan "$scans" \
     map_publish_rate:="$(live_rate 1.0)"
 fi
+if [[ " $RECORDINGS " == *" idle "* ]]; then
+  # What the node costs while nothing comes (the master on simulated time, no clock).
+  start_node idle /scan_front,/scan_rear
+  "$PY" - "$node_pid" "$IDLE_SECONDS" > "$OUT/runs/idle.json" <<'EOF'
+import json, os, sys, time
+pid, seconds = int(sys.argv[1]), float(sys.argv[2])
+def cpu_seconds():
+    with open("/proc/%d/stat" % pid) as stat:
+        fields = stat.read().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")  # utime + stime
+start = cpu_seconds()
+time.sleep(seconds)
+print(json.dumps({"idle_seconds": seconds,
+                  "cpu_share_of_one_core": (cpu_seconds() - start) / seconds}))
+EOF
+  kill -INT "$node" 2>/dev/null || true
+  wait "$node" || true
+  echo "== idle: $(cat "$OUT/runs/idle.json")"
+fi
 rfm_stop_all
 trap - EXIT
 
@@ -159,7 +187,7 @@ print("| run | scans played | processed | dropped by the node | never reached it
       "| stamp to filtered ms: median / p99 / max | peak RSS MB |")
 print("|---|---:|---:|---:|---:|---:|---|---|---|---|---:|")
 for name, r in rows:
-    if name.startswith("campus"):
+    if name.startswith("campus") or name == "idle":
         continue
     w, s = r["arrival_to_filtered_ms"], r["stamp_to_filtered_ms"]
     t, o = r.get("tf_wait_ms", {}), r.get("own_work_ms", {})
@@ -185,5 +213,10 @@ for name, r in rows:
         (r.get("map_cells_published") or 0) / campus_seconds,
         (r.get("map_publish_ms_total") or 0) / campus_seconds,
         (r.get("map_publish_ms_total") or 0) / max(1, messages)))
+for name, r in rows:
+    if name == "idle":
+        print()
+        print("Idle node (no data, %.0f s): %.2f %% of one core" % (
+            r["idle_seconds"], 100 * r["cpu_share_of_one_core"]))
 EOF
 cat "$OUT/live_benchmark.md"
