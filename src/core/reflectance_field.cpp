@@ -20,6 +20,13 @@ bool readValue(std::istream& in, T& value) {
   return static_cast<bool>(in.read(reinterpret_cast<char*>(&value), sizeof(T)));
 }
 
+// Huge pages for a window whose slices take at most this much. A 2 MB page of a slice spans the
+// window's width over many rows, so the first ray to reach it brings all of it in: an offline
+// window over a campus (4 GB of slices) became resident almost whole, most of it never reached,
+// and no faster for it (the kernel zeroes every page). A robot-centred window (29 MB) or one
+// over a building is reached nearly everywhere, and there the fewer page translations pay.
+constexpr size_t kHugePageSliceBytes = size_t{512} << 20;
+
 }  // namespace
 
 int activeWindowTiles(double radius, double resolution, int tile_cells) {
@@ -38,8 +45,9 @@ ReflectanceField::ReflectanceField(const GridOptions& grid, const LogOddsOptions
       theta_bins_(grid.theta_bins),
       plane_(static_cast<size_t>(window_.sizeCells()) * window_.sizeCells()),
       mask_words_((grid.theta_bins + 63) / 64),
-      bins_(plane_ * theta_bins_),
-      reflective_masks_(plane_ * mask_words_),
+      bins_(plane_ * theta_bins_,
+            plane_ * theta_bins_ <= kHugePageSliceBytes ? PageKind::kHuge : PageKind::kOrdinary),
+      reflective_masks_(plane_ * mask_words_, bins_.pages()),
       missed_bins_(plane_, 0),
       hit_since_tick_(plane_, 0),
       confident_miss_since_tick_(plane_, 0),
@@ -145,8 +153,8 @@ size_t ReflectanceField::activeBytes() const {
 void ReflectanceField::clear() {
   // Fresh zero pages instead of writing zeros over the old ones (100 MB for a batch's window, on
   // one thread): they fault in where the next insertions reach, on the inserting threads.
-  bins_ = ZeroedHugeArray<int8_t>(bins_.size());
-  reflective_masks_ = ZeroedHugeArray<uint64_t>(reflective_masks_.size());
+  bins_ = ZeroedHugeArray<int8_t>(bins_.size(), bins_.pages());
+  reflective_masks_ = ZeroedHugeArray<uint64_t>(reflective_masks_.size(), bins_.pages());
   std::fill(missed_bins_.begin(), missed_bins_.end(), 0);
   std::fill(hit_since_tick_.begin(), hit_since_tick_.end(), 0);
   std::fill(confident_miss_since_tick_.begin(), confident_miss_since_tick_.end(), 0);

@@ -15,6 +15,11 @@
 #include <utility>
 #include <vector>
 
+#if defined(__linux__)
+#include <sys/mman.h>
+#include <unistd.h>
+#endif
+
 namespace rfm {
 namespace {
 
@@ -233,6 +238,43 @@ TEST(ZeroedHugeArray, StartsZeroAndHoldsWhatIsWritten) {
   EXPECT_EQ(moved[99], 6u);
   EXPECT_EQ(small.size(), 0u);  // NOLINT: the moved-from state is specified
   EXPECT_EQ(ZeroedHugeArray<int8_t>().size(), 0u);
+}
+
+#if defined(__linux__)
+// Bytes of [data, data + bytes) the kernel has resident (mincore), to a page.
+size_t residentBytes(const void* data, size_t bytes) {
+  const size_t page = static_cast<size_t>(sysconf(_SC_PAGESIZE));
+  const auto first = reinterpret_cast<uintptr_t>(data) / page * page;
+  const size_t pages = (reinterpret_cast<uintptr_t>(data) + bytes - first + page - 1) / page;
+  std::vector<unsigned char> resident(pages);
+  if (mincore(reinterpret_cast<void*>(first), pages * page, resident.data()) != 0) return 0;
+  return page *
+         std::count_if(resident.begin(), resident.end(), [](unsigned char r) { return r & 1; });
+}
+
+// An array on ordinary pages is resident only around what was written, even where the kernel
+// would hand a huge page to the first touch: a big offline window's slices, mostly never reached.
+TEST(ZeroedHugeArray, OrdinaryPagesAreResidentOnlyWhereWritten) {
+  constexpr size_t kHuge = ZeroedHugeArray<int8_t>::kHugePageBytes;
+  ZeroedHugeArray<int8_t> sparse(32 * kHuge, PageKind::kOrdinary);
+  for (size_t i = kHuge / 2; i < sparse.size(); i += 4 * kHuge)
+    sparse[i] = 1;  // 8 writes, each in a different huge page
+  EXPECT_LE(residentBytes(sparse.data(), sparse.size()), 8 * size_t{64} << 10);
+  const ZeroedHugeArray<int8_t> small(100, PageKind::kOrdinary);
+  EXPECT_EQ(ZeroedHugeArray<int8_t>(small).pages(), PageKind::kOrdinary);  // copies keep it
+}
+#endif
+
+// A robot-centred window keeps huge pages (fewer page translations for its rays); a window of
+// more than 512 MB of slices, an offline map of a large site, takes ordinary pages.
+TEST(ReflectanceField, OnlyLargeWindowsTakeOrdinaryPages) {
+  ReflectanceField active{GridOptions(), LogOddsOptions(), ActiveRegionOptions()};
+  EXPECT_EQ(active.pages(), PageKind::kHuge);
+  // 127 tiles a side: 2032^2 cells x 180 bins = 743 MB of slices, allocated but never touched.
+  ReflectanceField site{GridOptions(), LogOddsOptions(), ActiveRegionOptions(), 50.0};
+  EXPECT_EQ(site.pages(), PageKind::kOrdinary);
+  site.clear();
+  EXPECT_EQ(site.pages(), PageKind::kOrdinary);
 }
 
 TEST(TileArchive, CompressionRoundTripsEveryPattern) {

@@ -227,6 +227,8 @@ class ReflectanceField {
 
   // Memory.
   size_t activeBytes() const;
+  // The pages of the slices and masks: huge unless the window is large (offline, a campus).
+  PageKind pages() const { return bins_.pages(); }
   size_t archivedBytes() const { return archive_.bytes(); }
   size_t archivedTiles() const { return archive_.tileCount(); }
   const TileArchive& archive() const { return archive_; }

@@ -14,14 +14,19 @@
 
 namespace rfm {
 
+// The pages a ZeroedHugeArray asks the kernel for.
+enum class PageKind { kHuge, kOrdinary };
+
 // A fixed-size array of zeros to start with, for the field's theta slices and masks.
 // - calloc hands a large block straight from the kernel, zero without being written: its pages
 //   are faulted in when first touched. So creating the field costs nothing, the threads that
 //   insert fault in the pages they reach side by side, and pages no ray reaches stay unmapped.
 //   (Faulting in 100 MB at once took 6-213 ms on the shared VM, all on one thread.)
-// - Blocks of at least one huge page are offered to the kernel's transparent huge pages (Linux;
-//   elsewhere, and when the kernel declines, they are ordinary pages). A scan's rays then cross
-//   a few dozen 2 MB pages instead of thousands of 4 kB ones: far fewer page translations.
+// - With PageKind::kHuge, blocks of at least one huge page are offered to the kernel's transparent
+//   huge pages (Linux; elsewhere, and when the kernel declines, they are ordinary pages). A
+//   scan's rays then cross a few dozen 2 MB pages instead of thousands of 4 kB ones: far fewer
+//   page translations. But a ray's first touch then brings in 2 MB: PageKind::kOrdinary keeps an
+//   array that rays reach only here and there resident only where they reach.
 template <typename T>
 class ZeroedHugeArray {
   static_assert(std::is_trivially_copyable_v<T>, "zero bytes must be a valid T");
@@ -30,25 +35,30 @@ class ZeroedHugeArray {
   static constexpr size_t kHugePageBytes = size_t{2} << 20;
 
   ZeroedHugeArray() = default;
-  explicit ZeroedHugeArray(size_t count) : size_(count) {
+  explicit ZeroedHugeArray(size_t count, PageKind pages = PageKind::kHuge)
+      : size_(count), pages_(pages) {
     if (count == 0) return;
     data_ = static_cast<T*>(std::calloc(count, sizeof(T)));
     if (!data_) throw std::bad_alloc();
-    adviseHugePages();
+    advisePages();
   }
-  ZeroedHugeArray(const ZeroedHugeArray& other) : ZeroedHugeArray(other.size_) {
+  ZeroedHugeArray(const ZeroedHugeArray& other) : ZeroedHugeArray(other.size_, other.pages_) {
     if (size_ > 0) std::memcpy(data_, other.data_, size_ * sizeof(T));
   }
   ZeroedHugeArray(ZeroedHugeArray&& other) noexcept
-      : data_(std::exchange(other.data_, nullptr)), size_(std::exchange(other.size_, 0)) {}
+      : data_(std::exchange(other.data_, nullptr)),
+        size_(std::exchange(other.size_, 0)),
+        pages_(other.pages_) {}
   ZeroedHugeArray& operator=(ZeroedHugeArray other) noexcept {
     std::swap(data_, other.data_);
     std::swap(size_, other.size_);
+    std::swap(pages_, other.pages_);
     return *this;
   }
   ~ZeroedHugeArray() { std::free(data_); }
 
   size_t size() const { return size_; }
+  PageKind pages() const { return pages_; }
   T* data() { return data_; }
   const T* data() const { return data_; }
   T& operator[](size_t i) { return data_[i]; }
@@ -59,18 +69,23 @@ class ZeroedHugeArray {
   const T* end() const { return data_ + size_; }
 
  private:
-  void adviseHugePages() {
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-    // The whole huge pages inside the block; advice only: failure leaves ordinary pages.
+  void advisePages() {
+#if defined(__linux__) && defined(MADV_HUGEPAGE) && defined(MADV_NOHUGEPAGE)
+    // The whole huge pages inside the block; advice only: failure leaves the kernel's default.
+    // Ordinary pages are asked for too: a kernel set to huge pages always would use them.
     const auto first = reinterpret_cast<uintptr_t>(data_);
     const uintptr_t begin = (first + kHugePageBytes - 1) / kHugePageBytes * kHugePageBytes;
     const uintptr_t end = (first + size_ * sizeof(T)) / kHugePageBytes * kHugePageBytes;
-    if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+    if (end > begin) {
+      madvise(reinterpret_cast<void*>(begin), end - begin,
+              pages_ == PageKind::kHuge ? MADV_HUGEPAGE : MADV_NOHUGEPAGE);
+    }
 #endif
   }
 
   T* data_ = nullptr;
   size_t size_ = 0;
+  PageKind pages_ = PageKind::kHuge;
 };
 
 }  // namespace rfm
