@@ -266,11 +266,11 @@ TEST(ZeroedHugeArray, OrdinaryPagesAreResidentOnlyWhereWritten) {
 #endif
 
 // A robot-centred window keeps huge pages (fewer page translations for its rays); a window of
-// more than 512 MB of slices, an offline map of a large site, takes ordinary pages.
+// more than 512 MiB of slices, an offline map of a large site, takes ordinary pages.
 TEST(ReflectanceField, OnlyLargeWindowsTakeOrdinaryPages) {
   ReflectanceField active{GridOptions(), LogOddsOptions(), ActiveRegionOptions()};
   EXPECT_EQ(active.pages(), PageKind::kHuge);
-  // 127 tiles a side: 2032^2 cells x 180 bins = 743 MB of slices, allocated but never touched.
+  // 127 tiles a side: 2032^2 cells x 180 bins = 709 MiB of slices, allocated but never touched.
   ReflectanceField site{GridOptions(), LogOddsOptions(), ActiveRegionOptions(), 50.0};
   EXPECT_EQ(site.pages(), PageKind::kOrdinary);
   site.clear();
