@@ -247,7 +247,10 @@ size_t residentBytes(const void* data, size_t bytes) {
   const auto first = reinterpret_cast<uintptr_t>(data) / page * page;
   const size_t pages = (reinterpret_cast<uintptr_t>(data) + bytes - first + page - 1) / page;
   std::vector<unsigned char> resident(pages);
-  if (mincore(reinterpret_cast<void*>(first), pages * page, resident.data()) != 0) return 0;
+  if (mincore(reinterpret_cast<void*>(first), pages * page, resident.data()) != 0) {
+    ADD_FAILURE() << "mincore failed";
+    return bytes;
+  }
   return page *
          std::count_if(resident.begin(), resident.end(), [](unsigned char r) { return r & 1; });
 }
