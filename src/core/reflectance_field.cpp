@@ -22,9 +22,9 @@ bool readValue(std::istream& in, T& value) {
 
 // Huge pages for a window whose slices take at most this much. A 2 MB page of a slice spans the
 // window's width over many rows, so the first ray to reach it brings all of it in: an offline
-// window over a campus (4 GiB of slices) became resident almost whole, most of it never reached,
-// and no faster for it (the kernel zeroes every page). A robot-centred window (32 MiB) or one
-// over a building is reached nearly everywhere, and there the fewer page translations pay.
+// window over a campus (4 GiB of slices) would be resident almost whole, most of it never
+// reached, and no faster for it (the kernel zeroes every page). A robot-centred window (32 MiB)
+// or one over a building is reached nearly everywhere, and there the fewer page translations pay.
 constexpr size_t kHugePageSliceBytes = size_t{512} << 20;
 
 }  // namespace
