@@ -144,17 +144,15 @@ fi
 if [[ " $RECORDINGS " == *" idle "* ]]; then
   # What the node costs while nothing comes (the master on simulated time, no clock).
   start_node idle /scan_front,/scan_rear
-  "$PY" - "$node_pid" "$IDLE_SECONDS" > "$OUT/runs/idle.json" <<'EOF'
-import json, os, sys, time
+  "$PY" - "$node_pid" "$IDLE_SECONDS" "$(dirname "$PROBE")" > "$OUT/runs/idle.json" <<'EOF'
+import json, sys, time
 pid, seconds = int(sys.argv[1]), float(sys.argv[2])
-def cpu_seconds():
-    with open("/proc/%d/stat" % pid) as stat:
-        fields = stat.read().rsplit(")", 1)[1].split()
-    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")  # utime + stime
-start = cpu_seconds()
+sys.path.insert(0, sys.argv[3])
+from probe import cpu_seconds
+start = cpu_seconds(pid)
 time.sleep(seconds)
 print(json.dumps({"idle_seconds": seconds,
-                  "cpu_share_of_one_core": (cpu_seconds() - start) / seconds}))
+                  "cpu_share_of_one_core": (cpu_seconds(pid) - start) / seconds}))
 EOF
   kill -INT "$node" 2>/dev/null || true
   wait "$node" || true
