@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Regenerates doc/random_evaluation.md: for each sensor setup, simulates procedural scenes
 # (rfm_sim --random SEED --setup SETUP), maps every bag with rfm_offline (the full RFM and the
-# plain occupancy grid, --baseline), scores the labels and the class map against the simulator's
-# truth and world with rfm_eval, and writes one report grouped by setup and seed split.
+# plain occupancy grid, --baseline) and labels it as the live node does (rfm_live_labels), scores
+# the labels and the class map against the simulator's truth and world with rfm_eval, and writes
+# one report grouped by setup and seed split.
 #
 #   scripts/run_random_evaluation.sh                  # a few minutes: 2 checking seeds, 40 s each
 #   SEEDS="$(seq 1001 1020)" DURATION= scripts/run_random_evaluation.sh   # bigger
@@ -100,6 +101,15 @@ for setup in $SETUPS; do
         --scene "$dir/scene.yaml" --out "$dir/$config/eval" > "$dir/$config/eval.log"
       echo "$config $seed $dir/$config/eval.json $setup $split" >> "$MANIFEST"
     done
+    # The node's labels: each scan judged when it arrives, against the map so far.
+    echo "== $setup, seed $seed: RFM_live"
+    mkdir -p "$dir/RFM_live"
+    rosrun reflectance_field_map rfm_live_labels "$dir/sim.bag" "$dir/RFM_live/labels.bag" \
+      --scan-topics "$topics" --fixed-frame "$FIXED_FRAME" \
+      > "$dir/RFM_live.log" 2>&1 || { cat "$dir/RFM_live.log" >&2; exit 1; }
+    rosrun reflectance_field_map rfm_eval --truth "$dir/sim.bag" --labels "$dir/RFM_live/labels.bag" \
+      --out "$dir/RFM_live/eval" > "$dir/RFM_live/eval.log"
+    echo "RFM_live $seed $dir/RFM_live/eval.json $setup $split" >> "$MANIFEST"
     description="$(sed -n 's/^description: "\(.*\)"$/\1/p' "$dir/scene.yaml")"
     drift="$(sed -n 's/^  odometry drifted \([0-9.e-]*\) m and \([0-9.e-]*\) deg.*/\1 m, \2 deg/p' "$dir/sim.log")"
     [[ "$drift" == "0 m, 0 deg" ]] && drift="none (true poses)"
@@ -112,7 +122,9 @@ PREAMBLE="$OUT/preamble.md"
 {
   echo "Procedural scenes (\`rfm_sim --random SEED --setup SETUP\`, doc/simulator.md) mapped by"
   echo "\`rfm_offline\` with its default parameters (RFM) and as a plain occupancy grid"
-  echo "(\`--baseline\`), in the \`$FIXED_FRAME\` frame, scored by \`rfm_eval\` (rays against"
+  echo "(\`--baseline\`), and labelled as the live node labels them (RFM_live: \`rfm_live_labels\`,"
+  echo "each scan judged when it arrives, against the map so far; rays only),"
+  echo "in the \`$FIXED_FRAME\` frame, scored by \`rfm_eval\` (rays against"
   echo "\`/sim/ray_truth\`; classes.pgm against the world of the scene file \`rfm_sim --write-scene\`"
   echo "wrote, tolerance 1 cell). In \`odom\` the maps carry the odometry's drift (Scenes, below),"
   echo "which the class metrics count as misplaced cells; \`FIXED_FRAME=map\` maps with true poses."
@@ -143,7 +155,7 @@ rosrun reflectance_field_map rfm_eval --report "$MANIFEST" --out "$REPORT" --pre
   echo "an upper bound on what a map could have removed). The recording never shows the first two"
   echo "kinds of standing gone. Shares of all true motion beams."
   echo
-  python3 "$REPO/scripts/kept_motion.py" "$OUT" RFM plain_grid
+  python3 "$REPO/scripts/kept_motion.py" "$OUT" RFM plain_grid RFM_live
 } >> "$REPORT"
 cat "$SCENES" >> "$REPORT"
 echo "== wrote $REPORT"

@@ -1,6 +1,6 @@
 // rfm_live_labels: labels every scan of a bag as the live node publishes them, for rfm_eval.
 //
-//   rfm_live_labels IN.bag OUT_labels.bag [PARAMS.yaml]
+//   rfm_live_labels IN.bag OUT_labels.bag [PARAMS.yaml] [--scan-topics /a,/b] [--fixed-frame F]
 //
 // The node's per-scan path (MapperRos::processScan): addScan, then labelAddedScan against the
 // map so far, and removeMotion every 1 / motion_removal_rate s of the scans' clock. Each beam is
@@ -13,18 +13,57 @@
 
 #include <exception>
 #include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+constexpr char kUsage[] =
+    "usage: rfm_live_labels IN.bag OUT_labels.bag [PARAMS.yaml] [--scan-topics /a,/b]"
+    " [--fixed-frame FRAME]\n"
+    "  topics default to /scan_front,/scan_rear (those present), the frame to odom, as "
+    "rfm_offline\n";
+
+std::vector<std::string> splitTopics(const std::string& list) {
+  std::vector<std::string> topics;
+  std::stringstream stream(list);
+  for (std::string topic; std::getline(stream, topic, ',');) {
+    if (!topic.empty()) topics.push_back(topic);
+  }
+  return topics;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 3 || argc > 4) {
-    std::cerr << "usage: rfm_live_labels IN.bag OUT_labels.bag [PARAMS.yaml]\n";
+  std::vector<std::string> positional;
+  rfm::offline::BagInputOptions input;
+  input.scan_topics = {"/scan_front", "/scan_rear"};
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if ((arg == "--scan-topics" || arg == "--fixed-frame") && i + 1 < argc) {
+      const std::string value = argv[++i];
+      if (arg == "--scan-topics") {
+        input.scan_topics = splitTopics(value);
+      } else {
+        input.fixed_frame = value;
+      }
+    } else if (arg.rfind("--", 0) == 0) {
+      std::cerr << "rfm_live_labels: unknown or incomplete option " << arg << "\n" << kUsage;
+      return 2;
+    } else {
+      positional.push_back(arg);
+    }
+  }
+  if (positional.size() < 2 || positional.size() > 3 || input.scan_topics.empty()) {
+    std::cerr << kUsage;
     return 2;
   }
   try {
     rfm::MapperOptions options;
-    if (argc == 4) rfm::offline::loadParamsFile(argv[3], options);
-    rfm::offline::BagInputOptions input;
-    input.bag = argv[1];
-    input.scan_topics = {"/scan_front", "/scan_rear"};
+    if (positional.size() == 3) rfm::offline::loadParamsFile(positional[2], options);
+    input.bag = positional[0];
     const rfm::offline::BagScans scans = rfm::offline::readBagScans(input);
     rfm::Mapper mapper(options);
     const double motion_removal_period = 1.0 / options.motion_removal.motion_removal_rate;
@@ -38,7 +77,7 @@ int main(int argc, char** argv) {
         last_motion_removal = scan.stamp;
       }
     }
-    rfm::offline::writeLabelsBag(argv[2], "/rfm/ray_labels", scans, labels);
+    rfm::offline::writeLabelsBag(positional[1], "/rfm/ray_labels", scans, labels);
   } catch (const std::exception& e) {
     std::cerr << "rfm_live_labels: " << e.what() << "\n";
     return 1;
