@@ -316,5 +316,78 @@ TEST(Mapper, ScansAfterAPauseGoInWithoutTheHelpersAndGiveTheSameMap) {
   EXPECT_TRUE(state_a.str() == state_b.str());
 }
 
+// Live labels of a scan just added (labelAddedScan), beam by beam, keyed by what the beam hit.
+struct LiveLabels {
+  std::vector<RayLabel> labels;
+  TimedScan scan;
+};
+
+LiveLabels addAndLabel(Mapper& mapper, const SyntheticWorld& world, const Pose2D& robot,
+                       double stamp) {
+  LiveLabels out;
+  out.scan = world.timedScan(robot, stamp);
+  out.labels = mapper.labelAddedScan(out.scan, mapper.addScan(out.scan));
+  return out;
+}
+
+// A person steps into floor the robot has watched empty, in the direction it now sees them
+// from: the live labels remove them at once, before motion removal has seen them move.
+TEST(Mapper, LiveLabelsRemoveSomeoneSteppingIntoFloorSeenEmpty) {
+  SyntheticWorld world;
+  world.addWall({5.0, -3.0}, {5.0, 3.0});
+  world.addWall({-1.0, 3.0}, {5.0, 3.0});
+  world.addWall({-1.0, -3.0}, {5.0, -3.0});
+  Mapper mapper(testing::scenarioOptions());
+  const Pose2D robot{Eigen::Vector2d(0.0, 0.0), 0.0};
+  double stamp = 0.0;
+  for (int i = 0; i < 40; ++i)
+    addAndLabel(mapper, world, robot, stamp += 0.025);
+  mapper.removeMotion();  // the floor up to the far wall is free now
+
+  world.people = {{{2.5, 0.0}, 0.25}};
+  const LiveLabels seen = addAndLabel(mapper, world, robot, stamp += 0.025);
+  int person = 0, person_removed = 0, wall = 0, wall_kept = 0;
+  for (size_t i = 0; i < seen.labels.size(); ++i) {
+    const double range = seen.scan.scan.ranges[i];
+    if (!std::isfinite(range)) continue;
+    if (range < 2.9) {  // the person; the walls are 3 m away or more
+      ++person;
+      person_removed += seen.labels[i] == RayLabel::kMotion;
+    } else {
+      ++wall;
+      wall_kept += seen.labels[i] == RayLabel::kKept;
+    }
+  }
+  ASSERT_GT(person, 10);
+  EXPECT_EQ(person_removed, person);
+  EXPECT_EQ(wall_kept, wall);
+}
+
+// A pane the robot has only looked through obliquely (at the wall behind it) is free in the
+// classes; seen for the first time near its normal it returns from directions no ray had crossed
+// it in: kept, not an arrival.
+TEST(Mapper, LiveLabelsKeepAPaneFirstSeenNearItsNormal) {
+  SyntheticWorld world = corridorWithPane();
+  Mapper mapper(testing::scenarioOptions());
+  double stamp = 0.0;
+  for (const auto& step : driveBy({6.0, 0.0}, {7.5, 0.0}, 0.0))
+    addAndLabel(mapper, world, step.robot, stamp += 0.025);
+  mapper.removeMotion();
+  const GridGeometry& g = mapper.field().geometry();
+  ASSERT_EQ(mapper.cellClass(g.cellOf({8.0, -2.0})), CellClass::kFree);
+
+  const LiveLabels seen =
+      addAndLabel(mapper, world, Pose2D{Eigen::Vector2d(8.0, 0.0), 0.0}, stamp += 0.025);
+  int pane = 0, pane_kept = 0;
+  for (size_t i = 0; i < seen.labels.size(); ++i) {
+    const double range = seen.scan.scan.ranges[i];
+    if (std::abs(range - 2.0) > 0.1) continue;  // the pane, straight below the robot
+    ++pane;
+    pane_kept += seen.labels[i] == RayLabel::kKept;
+  }
+  ASSERT_GT(pane, 3);
+  EXPECT_EQ(pane_kept, pane);
+}
+
 }  // namespace
 }  // namespace rfm

@@ -135,12 +135,14 @@ class Mapper {
   // KEPT when the endpoint cell is an obstacle and the ray did not pass through glass first,
   // REFLECTION when it did, MOTION when the endpoint is motion. With `final_map` an endpoint
   // whose evidence did not survive (free or unknown) is removed as MOTION too; live, it is kept
-  // until motion removal has judged it.
+  // until motion removal has judged it (but by labelAddedScan, below).
   std::vector<RayLabel> labelScan(const TimedScan& scan, bool final_map = false) const;
   // labelScan of a scan just added (live), with `update` its addScan result: a beam the
   // insertion cut at glass is REFLECTION whatever the map says now, and a return whose whole ray
   // the insertion checked is not checked again (the check read the same classes; only the
-  // scan's own evidence, inserted since, could move a static cell's directions).
+  // scan's own evidence, inserted since, could move a static cell's directions). A return in a
+  // cell last classified free, where the field had seen it free in the beam's direction before
+  // (a person stepping into open floor), is MOTION before motion removal sees the person move.
   std::vector<RayLabel> labelAddedScan(const TimedScan& scan, const ScanUpdate& update) const;
   // labelScan of the scans [first, last), on the mapper's threads.
   std::vector<std::vector<RayLabel>> labelScans(ScanIterator first, ScanIterator last,
@@ -179,9 +181,11 @@ class Mapper {
   // What reset() and load() start afresh besides the field and the map.
   void forgetDerivedState();
   // labelScan of a scan already validated; beams marked in `checked` (by beam, may be null)
-  // are not checked for passing through glass again.
+  // are not checked for passing through glass again. `just_added`: the field holds the scan's
+  // hits, so a return in a free cell can be told an arrival (labelRays).
   std::vector<RayLabel> labelValidScan(const TimedScan& scan, bool final_map,
-                                       const std::vector<uint8_t>* checked = nullptr) const;
+                                       const std::vector<uint8_t>* checked = nullptr,
+                                       bool just_added = false) const;
 
   MapperOptions options_;
   ReflectanceField field_;

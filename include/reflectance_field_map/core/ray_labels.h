@@ -7,6 +7,7 @@
 #include "reflectance_field_map/core/global_map.h"
 #include "reflectance_field_map/core/grid_geometry.h"
 #include "reflectance_field_map/core/laser_scan.h"
+#include "reflectance_field_map/core/reflectance_field.h"
 #include "reflectance_field_map/core/reflection_removal.h"
 
 #include <vector>
@@ -17,10 +18,13 @@ namespace rfm {
 // of its 8 neighbours (discretisation), is an obstacle; otherwise its evidence did not survive:
 // motion (a transient object, or erased evidence when `final_map`). A beam longer than the
 // evidence range (active_region_radius) added nothing at its end: an end cell that no ray
-// observed leaves it unjudged (kept), against the final map too, as live.
-template <typename ClassOf>
+// observed leaves it unjudged (kept), against the final map too, as live. Live, a return in a cell
+// the last classification left free, with nothing but free or unknown cells beside it, is motion
+// when `arrived(end_cell)` says something arrived there (arrivedInFreeCell), else kept until
+// motion removal judges it.
+template <typename ClassOf, typename Arrived>
 RayLabel labelEndpoint(const Ray& beam, const GridGeometry& geometry, double evidence_range,
-                       bool final_map, ClassOf&& class_of) {
+                       bool final_map, ClassOf&& class_of, Arrived&& arrived) {
   // An end past every cell a map can hold (a return claimed from 1e19 m) lies in no map:
   // unjudged.
   const double limit = GlobalMap2D::kMaxCellCoordinate;
@@ -40,20 +44,30 @@ RayLabel labelEndpoint(const Ray& beam, const GridGeometry& geometry, double evi
     }
   }
   if (motion) return RayLabel::kMotion;
-  const bool judged =
-      final_map && (c != CellClass::kUnknown || (beam.end - beam.origin).norm() <= evidence_range);
+  if (!final_map) {
+    return c == CellClass::kFree && arrived(end_cell) ? RayLabel::kMotion : RayLabel::kKept;
+  }
+  const bool judged = c != CellClass::kUnknown || (beam.end - beam.origin).norm() <= evidence_range;
   return judged ? RayLabel::kMotion : RayLabel::kKept;  // unjudged: kept for safety
 }
+
+// Whether a just-inserted return `beam` in `cell` is an arrival: the field had seen the cell free
+// in the beam's own direction before this return (its bin, this scan's hit included, is below
+// one hit), as open floor a person steps into. A surface first seen from a direction no ray had
+// crossed it in (a pane near its normal, seen through only from elsewhere) is not one.
+bool arrivedInFreeCell(const ReflectanceField& field, const Ray& beam, const CellIndex& cell);
 
 // The labels of a scan's `rays` (in beam order, of a scan of `beams` beams) against the active
 // region's classes: REFLECTION where the reflection check finds the ray passing through a
 // blocking cell (its part inside the window), else as labelEndpoint judges it; NO_RETURN for
 // beams without a return. Beams marked in `checked_beams` (by beam; null or empty: none) skip
-// the reflection check: the caller already knows its answer for them.
+// the reflection check: the caller already knows its answer for them. `inserted` (live: the field
+// that holds these rays' hits; null: none) judges returns in free cells (arrivedInFreeCell).
 std::vector<RayLabel> labelRays(const std::vector<Ray>& rays, size_t beams,
                                 const ReflectionRemover& reflections, const ActiveClasses& classes,
                                 const CellBox& window_box, const GridGeometry& geometry,
                                 double evidence_range, bool final_map,
-                                const std::vector<uint8_t>* checked_beams = nullptr);
+                                const std::vector<uint8_t>* checked_beams = nullptr,
+                                const ReflectanceField* inserted = nullptr);
 
 }  // namespace rfm
