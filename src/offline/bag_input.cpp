@@ -194,6 +194,15 @@ void readStretch(rosbag::View& view, const std::map<std::string, uint32_t>& topi
 
 }  // namespace
 
+std::vector<std::string> splitTopicList(const std::string& list) {
+  std::vector<std::string> topics;
+  std::istringstream in(list);
+  for (std::string topic; std::getline(in, topic, ',');) {
+    if (!topic.empty()) topics.push_back(topic);
+  }
+  return topics;
+}
+
 uint64_t BagScans::scansRead() const {
   return std::accumulate(read_per_topic.begin(), read_per_topic.end(), uint64_t{0});
 }

@@ -14,7 +14,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -31,15 +30,6 @@ const char* const kUsage =
     "them than hit them: a return from more than CELLS cells beyond a cell (default 2) sees\n"
     "through it, one ending in it hits it. Flags as rfm_offline's (defaults /scan_front,\n"
     "/scan_rear, odom, base_link). --picture: the maps side by side, those cells red.\n";
-
-std::vector<std::string> splitTopics(const std::string& text) {
-  std::vector<std::string> topics;
-  std::stringstream in(text);
-  std::string topic;
-  while (std::getline(in, topic, ','))
-    if (!topic.empty()) topics.push_back(topic);
-  return topics;
-}
 
 }  // namespace
 
@@ -64,7 +54,7 @@ int main(int argc, char** argv) {
       }
       const std::string value = argv[++i];
       if (arg == "--bag") input.bag = value;
-      if (arg == "--scan-topics") input.scan_topics = splitTopics(value);
+      if (arg == "--scan-topics") input.scan_topics = rfm::offline::splitTopicList(value);
       if (arg == "--fixed-frame") input.fixed_frame = value;
       if (arg == "--base-frame") input.base_frame = value;
       if (arg == "--margin") {

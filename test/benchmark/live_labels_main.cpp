@@ -13,7 +13,6 @@
 
 #include <exception>
 #include <iostream>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -24,15 +23,6 @@ constexpr char kUsage[] =
     " [--fixed-frame FRAME]\n"
     "  topics default to /scan_front,/scan_rear (those present), the frame to odom, as "
     "rfm_offline\n";
-
-std::vector<std::string> splitTopics(const std::string& list) {
-  std::vector<std::string> topics;
-  std::stringstream stream(list);
-  for (std::string topic; std::getline(stream, topic, ',');) {
-    if (!topic.empty()) topics.push_back(topic);
-  }
-  return topics;
-}
 
 }  // namespace
 
@@ -45,7 +35,7 @@ int main(int argc, char** argv) {
     if ((arg == "--scan-topics" || arg == "--fixed-frame") && i + 1 < argc) {
       const std::string value = argv[++i];
       if (arg == "--scan-topics") {
-        input.scan_topics = splitTopics(value);
+        input.scan_topics = rfm::offline::splitTopicList(value);
       } else {
         input.fixed_frame = value;
       }

@@ -6,7 +6,6 @@
 #include "reflectance_field_map/offline/bag_input.h"
 
 #include <optional>
-#include <sstream>
 #include <string>
 
 namespace rfm::benchmark {
@@ -16,9 +15,7 @@ inline std::optional<offline::BagInputOptions> peerInputOptions(int argc, char**
   if (argc != 3 && argc != 5) return std::nullopt;
   offline::BagInputOptions options;
   options.bag = argv[1];
-  std::stringstream topics(argv[2]);
-  for (std::string topic; std::getline(topics, topic, ',');)
-    options.scan_topics.push_back(topic);
+  options.scan_topics = offline::splitTopicList(argv[2]);
   if (argc == 5) {
     options.fixed_frame = argv[3];
     options.base_frame = argv[4];

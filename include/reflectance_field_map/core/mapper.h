@@ -135,7 +135,7 @@ class Mapper {
   // KEPT when the endpoint cell is an obstacle and the ray did not pass through glass first,
   // REFLECTION when it did, MOTION when the endpoint is motion. With `final_map` an endpoint
   // whose evidence did not survive (free or unknown) is removed as MOTION too; live, it is kept
-  // until motion removal has judged it (but by labelAddedScan, below).
+  // until motion removal has judged it (labelAddedScan, below, judges arrivals at once).
   std::vector<RayLabel> labelScan(const TimedScan& scan, bool final_map = false) const;
   // labelScan of a scan just added (live), with `update` its addScan result: a beam the
   // insertion cut at glass is REFLECTION whatever the map says now, and a return whose whole ray

@@ -71,6 +71,9 @@ struct BagScans {
   std::vector<std::string> describeSkips() const;
 };
 
+// The topics of a comma-separated list ("/a,/b"), empty entries dropped.
+std::vector<std::string> splitTopicList(const std::string& list);
+
 // Reads all scans of the requested topics and their poses: TF comes from the bag's /tf and
 // /tf_static (one tf2::BufferCore whose cache spans the whole bag). The laser pose and the
 // base pose are looked up in the fixed frame at each scan's stamp; a scan already in the
