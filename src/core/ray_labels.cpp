@@ -2,11 +2,31 @@
 
 #include "reflectance_field_map/core/ray_insertion.h"
 
+#include <cmath>
+
 namespace rfm {
+namespace {
+
+// A line within this many cells of a cell's centre may cross the cell.
+constexpr double kHalfCellDiagonal = 0.7071067811865476;
+
+}  // namespace
 
 bool arrivedInFreeCell(const ReflectanceField& field, const Ray& beam, const CellIndex& cell) {
   if (!field.inActiveRegion(cell)) return false;
   return field.value(cell, field.geometry().binOf(beam.angle)) < field.logOdds().hitStep();
+}
+
+bool passesThroughCell(const Ray& ray, const CellIndex& cell, const GridGeometry& geometry) {
+  const Eigen::Vector2d path = ray.end - ray.origin;
+  const double length = path.norm();
+  if (!(length > 0.0)) return false;
+  const Eigen::Vector2d along = path / length;
+  const Eigen::Vector2d to_centre = geometry.cellCenter(cell) - ray.origin;
+  const double distance = to_centre.dot(along);
+  const double lateral = std::abs(to_centre.x() * along.y() - to_centre.y() * along.x());
+  return distance > 0.0 && distance < length - geometry.resolution() &&
+         lateral <= kHalfCellDiagonal * geometry.resolution();
 }
 
 std::vector<RayLabel> labelRays(const std::vector<Ray>& rays, size_t beams,
@@ -32,19 +52,27 @@ std::vector<RayLabel> labelRays(const std::vector<Ray>& rays, size_t beams,
     reflections.passThroughDistances(checked.data(), checked.size(), through.data());
   }
   auto class_of = [&classes](const CellIndex& cell) { return classes.at(cell); };
-  const Ray* current = nullptr;
-  auto arrived = [&inserted, &current](const CellIndex& cell) {
-    return inserted && arrivedInFreeCell(*inserted, *current, cell);
+  // An arrival also needs the scan's neighbouring beams to have stopped short of the cell: a pane
+  // at the edge of its return cone lets the next beam through, a person blocks it.
+  size_t index = 0;
+  auto neighbour_passes = [&](size_t other, const CellIndex& cell) {
+    return other < rays.size() &&
+           (rays[other].beam == rays[index].beam + 1 || rays[other].beam + 1 == rays[index].beam) &&
+           passesThroughCell(rays[other], cell, geometry);
+  };
+  auto arrived = [&](const CellIndex& cell) {
+    return inserted && arrivedInFreeCell(*inserted, rays[index], cell) &&
+           !neighbour_passes(index - 1, cell) && !neighbour_passes(index + 1, cell);
   };
   size_t next_checked = 0;
-  for (const Ray& ray : rays) {
+  for (; index < rays.size(); ++index) {
+    const Ray& ray = rays[index];
     if (!ray.hit) continue;  // no return: nothing to keep or remove
     if (next_checked < checked.size() && checked[next_checked].beam == ray.beam &&
         through[next_checked++] >= 0.0) {
       labels[ray.beam] = RayLabel::kReflection;
       continue;
     }
-    current = &ray;
     labels[ray.beam] = labelEndpoint(ray, geometry, evidence_range, final_map, class_of, arrived);
   }
   return labels;

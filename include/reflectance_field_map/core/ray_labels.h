@@ -57,12 +57,17 @@ RayLabel labelEndpoint(const Ray& beam, const GridGeometry& geometry, double evi
 // crossed it in (a pane near its normal, seen through only from elsewhere) is not one.
 bool arrivedInFreeCell(const ReflectanceField& field, const Ray& beam, const CellIndex& cell);
 
+// Whether `ray` goes on through `cell`: its line passes within half a cell's diagonal of the
+// cell's centre, ahead of its origin and short of its last cell.
+bool passesThroughCell(const Ray& ray, const CellIndex& cell, const GridGeometry& geometry);
+
 // The labels of a scan's `rays` (in beam order, of a scan of `beams` beams) against the active
 // region's classes: REFLECTION where the reflection check finds the ray passing through a
 // blocking cell (its part inside the window), else as labelEndpoint judges it; NO_RETURN for
 // beams without a return. Beams marked in `checked_beams` (by beam; null or empty: none) skip
 // the reflection check: the caller already knows its answer for them. `inserted` (live: the field
-// that holds these rays' hits; null: none) judges returns in free cells (arrivedInFreeCell).
+// that holds these rays' hits; null: none) judges returns in free cells: an arrival when
+// arrivedInFreeCell and neither neighbouring beam of the scan passesThroughCell.
 std::vector<RayLabel> labelRays(const std::vector<Ray>& rays, size_t beams,
                                 const ReflectionRemover& reflections, const ActiveClasses& classes,
                                 const CellBox& window_box, const GridGeometry& geometry,
