@@ -55,14 +55,15 @@ std::vector<RayLabel> labelRays(const std::vector<Ray>& rays, size_t beams,
   // An arrival also needs the scan's neighbouring beams to have stopped short of the cell: a pane
   // at the edge of its return cone lets the next beam through, a person blocks it.
   size_t index = 0;
-  auto neighbour_passes = [&](size_t other, const CellIndex& cell) {
-    return other < rays.size() &&
-           (rays[other].beam == rays[index].beam + 1 || rays[other].beam + 1 == rays[index].beam) &&
-           passesThroughCell(rays[other], cell, geometry);
+  // Rays skip invalid beams: the ray beside is the neighbouring beam only when their beams are.
+  auto beside_passes = [&](size_t other, const CellIndex& cell) {
+    const uint32_t a = rays[index].beam, b = rays[other].beam;
+    return (a == b + 1 || b == a + 1) && passesThroughCell(rays[other], cell, geometry);
   };
   auto arrived = [&](const CellIndex& cell) {
-    return inserted && arrivedInFreeCell(*inserted, rays[index], cell) &&
-           !neighbour_passes(index - 1, cell) && !neighbour_passes(index + 1, cell);
+    if (!inserted || !arrivedInFreeCell(*inserted, rays[index], cell)) return false;
+    if (index > 0 && beside_passes(index - 1, cell)) return false;
+    return !(index + 1 < rays.size() && beside_passes(index + 1, cell));
   };
   size_t next_checked = 0;
   for (; index < rays.size(); ++index) {
