@@ -1,25 +1,8 @@
 #include "reflectance_field_map/core/motion_removal.h"
 
 #include <algorithm>
-#include <cmath>
 
 namespace rfm {
-
-namespace {
-
-// A round specular object (a metal-clad pillar, a glass column) returns from each cell only near
-// that cell's normal: no cell is widely visible, yet the object as a whole returns from wherever
-// the robot passed round it, and its cells' returns, coming back along their normals, meet at its
-// centre. A component no wider than kRoundObjectSize whose narrowly seen cells return from
-// kRoundObjectAngle of directions together, along lines that meet within kRoundObjectSpreadCells
-// (root mean square) of a point ahead of them, is such an object. A walking person's returns come
-// along the rays from the robot, which meet behind them; a person standing while the robot goes
-// round is diffuse, and the departure rules judge their widely visible cells.
-constexpr double kRoundObjectSize = 1.0;  // m
-constexpr double kRoundObjectAngle = 2.0 * kPi / 3.0;
-constexpr double kRoundObjectSpreadCells = 1.5;
-
-}  // namespace
 
 bool binIntervalsOverlap(int a, int a_len, int b, int b_len, int bins) {
   if (a_len >= bins || b_len >= bins) return a_len > 0 && b_len > 0;
@@ -140,16 +123,13 @@ void MotionRemover::unite(uint32_t a, uint32_t b) {
   anchored_[a] |= anchored_[b];
   runs_in_[a] += runs_in_[b];
   solid_runs_[a] += solid_runs_[b];
-  persistent_[a] |= persistent_[b];
-  Extent& e = extent_[a];
-  const Extent& f = extent_[b];
-  e = {std::min(e.min_x, f.min_x), std::min(e.min_y, f.min_y), std::max(e.max_x, f.max_x),
-       std::max(e.max_y, f.max_y)};
-  lines_[a].add(lines_[b]);
-  uint64_t* directions = &directions_[static_cast<size_t>(a) * direction_words_];
-  const uint64_t* other = &directions_[static_cast<size_t>(b) * direction_words_];
-  for (int w = 0; w < direction_words_; ++w)
-    directions[w] |= other[w];
+  if (anchors_.tracksExtents()) {
+    persistent_[a] |= persistent_[b];
+    Extent& e = extent_[a];
+    const Extent& f = extent_[b];
+    e = {std::min(e.min_x, f.min_x), std::min(e.min_y, f.min_y), std::max(e.max_x, f.max_x),
+         std::max(e.max_y, f.max_y)};
+  }
   if (rank_[a] == rank_[b]) ++rank_[a];
 }
 
@@ -209,29 +189,8 @@ void MotionRemover::joinBand(const ReflectanceField& field, const AnchorHistory&
       for (uint32_t r = first; r < last; ++r)
         reflective += runs_[r].length;
       const int slot = slots_[local];
-      const bool widely_visible = widelyVisible(field, slot, reflective);
       const CellAnchoring anchoring =
-          anchors_.judge(field, history, slot, reflective, widely_visible);
-      // Only cells seen from few directions make up a round object (seenAroundRoundObject): a
-      // diffuse one seen from around has widely visible cells, which the departure rules judge.
-      if (!widely_visible) {
-        const double cx = x - box.min.x() + 0.5, cy = y - box.min.y() + 0.5;
-        for (uint32_t r = first; r < last; ++r) {
-          const Eigen::Vector2d& d =
-              half_bin_directions_[(2 * runs_[r].first_bin + runs_[r].length) % (2 * bins)];
-          const double dx = d.x(), dy = d.y();
-          ReturnLines& l = lines_[find(r)];
-          l.a11 += 1.0 - dx * dx, l.a12 -= dx * dy, l.a22 += 1.0 - dy * dy;
-          l.b1 += (1.0 - dx * dx) * cx - dx * dy * cy, l.b2 += (1.0 - dy * dy) * cy - dx * dy * cx;
-          l.s += cx * cx + cy * cy - (cx * dx + cy * dy) * (cx * dx + cy * dy);
-          l.d1 += dx, l.d2 += dy, l.cd += cx * dx + cy * dy, l.n += 1.0;
-          uint64_t* directions = &directions_[static_cast<size_t>(find(r)) * direction_words_];
-          for (int k = 0; k < runs_[r].length; ++k) {
-            const int bin = (runs_[r].first_bin + k) % bins;
-            directions[bin >> 6] |= uint64_t{1} << (bin & 63);
-          }
-        }
-      }
+          anchors_.judge(field, history, slot, reflective, widelyVisible(field, slot, reflective));
       const bool anchor = anchoring.anchor, persistent = anchoring.persistent;
       anchor_cell_[local] = anchor;
       solid_[local] = anchoring.solid;
@@ -290,26 +249,6 @@ bool MotionRemover::spansAtLeast(uint32_t root, int min_cells) const {
   return std::max(e.max_x - e.min_x, e.max_y - e.min_y) + 1 >= min_cells;
 }
 
-bool MotionRemover::seenAroundRoundObject(uint32_t root) const {
-  if (spansAtLeast(root, round_object_cells_ + 1) ||
-      countMaskBits(&directions_[static_cast<size_t>(root) * direction_words_], direction_words_) <
-          round_object_bins_) {
-    return false;
-  }
-  // A round specular object returns along its normals, which meet at its centre, ahead of its
-  // cells; a person's returns come along the rays from the robot, which meet behind.
-  const ReturnLines& l = lines_[root];
-  const double det = l.a11 * l.a22 - l.a12 * l.a12;
-  if (!(det > 1e-6 * l.n * l.n)) return false;
-  const double px = (l.a22 * l.b1 - l.a12 * l.b2) / det;
-  const double py = (l.a11 * l.b2 - l.a12 * l.b1) / det;
-  const double spread = (l.s - 2.0 * (px * l.b1 + py * l.b2) + px * px * l.a11 +
-                         2.0 * px * py * l.a12 + py * py * l.a22) /
-                        l.n;
-  const double ahead = (px * l.d1 + py * l.d2 - l.cd) / l.n;
-  return spread <= kRoundObjectSpreadCells * kRoundObjectSpreadCells && ahead > 0.0;
-}
-
 void MotionRemover::classifyBand(const ReflectanceField& field, const CellBox& box,
                                  const Band& band, std::vector<CellClass>& classes,
                                  MotionRemovalCounts& counts, std::vector<size_t>& glass) const {
@@ -348,8 +287,7 @@ void MotionRemover::classifyBand(const ReflectanceField& field, const CellBox& b
             anchored |= anchored_[root] != 0 ||
                         (persistent_[root] && spansAtLeast(root, anchors_.persistence_min_cells)) ||
                         (anchors_.solid_max_missed_ratio > 0.0 &&
-                         solid_runs_[root] >= anchors_.solid_min_share * runs_in_[root]) ||
-                        seenAroundRoundObject(root);
+                         solid_runs_[root] >= anchors_.solid_min_share * runs_in_[root]);
           }
           CellClass& c = classes[local];
           c = rule_.classify(reflective, field.missedBinsAt(slots_[local]));
@@ -401,15 +339,6 @@ MotionRemovalCounts MotionRemover::classify(
   runs_.resize(band_offset[parts]);
   cell_first_run_[cells] = band_offset[parts];
   min_widely_visible_bins_ = rule_.minWidelyVisibleBins(field.logOdds(), bins);
-  const GridGeometry& geometry = field.geometry();
-  round_object_cells_ = static_cast<int>(std::floor(kRoundObjectSize / geometry.resolution()));
-  round_object_bins_ = static_cast<int>(std::ceil(kRoundObjectAngle / geometry.binWidth()));
-  direction_words_ = field.maskWords();
-  half_bin_directions_.resize(2 * bins);
-  for (int h = 0; h < 2 * bins; ++h) {
-    const double angle = 0.5 * h * geometry.binWidth();
-    half_bin_directions_[h] = {std::cos(angle), std::sin(angle)};
-  }
   parent_.resize(runs_.size());
   for (uint32_t i = 0; i < parent_.size(); ++i)
     parent_[i] = i;
@@ -418,9 +347,7 @@ MotionRemovalCounts MotionRemover::classify(
   persistent_.assign(runs_.size(), 0);
   runs_in_.assign(runs_.size(), 0);
   solid_runs_.assign(runs_.size(), 0);
-  extent_.resize(runs_.size());
-  directions_.assign(runs_.size() * direction_words_, 0);
-  lines_.assign(runs_.size(), ReturnLines());
+  extent_.resize(anchors_.tracksExtents() ? runs_.size() : 0);
   forEachBand([&](int p) {
     std::copy(band_runs_[p].begin(), band_runs_[p].end(), runs_.begin() + band_offset[p]);
     const size_t begin = static_cast<size_t>(bands[p].first_row) * box.width();
@@ -432,7 +359,7 @@ MotionRemovalCounts MotionRemover::classify(
       const uint32_t last = local + 1 < end ? cell_first_run_[local + 1]
                                             : static_cast<uint32_t>(band_runs_[p].size());
       cell_first_run_[local] = first + offset;
-      if (first == last) continue;
+      if (first == last || !anchors_.tracksExtents()) continue;
       const auto col = static_cast<int16_t>(local % box.width());
       const auto row = static_cast<int16_t>(local / box.width());
       for (uint32_t r = first + offset; r < last + offset; ++r)

@@ -8,7 +8,6 @@
 
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <limits>
 #include <random>
 
@@ -268,30 +267,6 @@ TEST(MotionRemover, SolidComponentsAreStructure) {
             (std::vector<C>{C::kStatic, C::kStatic, C::kStatic, C::kStatic}));
 }
 
-// An arc of cells, each returning from a narrow fan of directions and seen through from many
-// others (neither widely visible nor solid), their fans together covering 140 deg. Along the
-// arc's normals the fans meet at its centre: a round specular object, kept. Turned 90 deg, along
-// its tangents, they meet nowhere: motion.
-TEST(MotionRemover, NarrowReturnsMeetingAtACentreMakeARoundObject) {
-  auto arc_class = [](double turn) {
-    DirectField f;
-    const GridGeometry& g = f.field.geometry();
-    for (double phi = 200.0; phi <= 340.0; phi += 8.0) {
-      const double rad = phi * kPi / 180.0;
-      const CellIndex cell(static_cast<int>(std::lround(5.0 * std::cos(rad))),
-                           static_cast<int>(std::lround(5.0 * std::sin(rad))));
-      const int centre_bin = g.binOf(rad + kPi + turn);
-      for (int k = -3; k <= 3; ++k)
-        f.hit(cell, g.wrapBin(centre_bin + k));
-      for (int k = 20; k < 60; ++k)
-        f.field.applyMiss(cell, g.wrapBin(centre_bin + k));
-    }
-    return f.classify(CellIndex(0, -5));
-  };
-  EXPECT_TRUE(isObstacle(arc_class(0.0)));
-  EXPECT_EQ(arc_class(kPi / 2), CellClass::kMotion);
-}
-
 // Something that arrived where the field had seen free space (a person who stopped, a door
 // closed) is not structure, however solid it looks since.
 TEST(MotionRemover, CellsThatArrivedDoNotMakeStructure) {
@@ -460,36 +435,6 @@ TEST(MotionRemoval, FreestandingPaneIsGlassWithTheHShape) {
   EXPECT_EQ(mapper.cellClass(frame), CellClass::kStatic);
   EXPECT_LE(field.reflectiveBins(face) * g.binWidth(), 16.0 * kPi / 180.0);
   EXPECT_TRUE(field.isReflective(face, g.binOf(0.0)) || field.isReflective(face, g.binOf(-0.01)));
-}
-
-// A round column of a specular surface (32 glass facets, each returning only within 10 deg of its
-// normal and letting other beams through, as metal's glancing beams look to the mapper) seen
-// while the robot drives past: no cell is widely visible or solid, but the half facing the path
-// returns from all the way along it, 140 deg of directions: structure, not motion.
-TEST(MotionRemoval, ARoundSpecularColumnDrivenPastIsKept) {
-  SyntheticWorld world;
-  world.glass_window = 10.0 * kPi / 180.0;
-  const Eigen::Vector2d centre(0.0, 1.5);
-  const double radius = 0.25;
-  const int facets = 32;
-  for (int k = 0; k < facets; ++k) {
-    const double a = 2.0 * kPi * k / facets, b = 2.0 * kPi * (k + 1) / facets;
-    world.segments.push_back({centre + radius * Eigen::Vector2d(std::cos(a), std::sin(a)),
-                              centre + radius * Eigen::Vector2d(std::cos(b), std::sin(b)),
-                              testing::Material::kGlass});
-  }
-  Mapper mapper(testing::scenarioOptions());
-  runScenario(mapper, world, driveBy({-4.0, 0.0}, {4.0, 0.0}, kPi / 2));
-  const GridGeometry& g = mapper.field().geometry();
-  int obstacles = 0, motion = 0;
-  for (double angle = 1.2 * kPi; angle < 1.8 * kPi; angle += 0.02) {  // the side facing the path
-    const CellIndex cell =
-        g.cellOf(centre + (radius - 0.01) * Eigen::Vector2d(std::cos(angle), std::sin(angle)));
-    obstacles += isObstacle(mapper.cellClass(cell));
-    motion += mapper.cellClass(cell) == CellClass::kMotion;
-  }
-  EXPECT_GT(obstacles, 50);
-  EXPECT_EQ(motion, 0);
 }
 
 // Fig. 3: a pedestrian walking past leaves a thin stroke: removed, not an obstacle. The sensor

@@ -84,9 +84,6 @@ class MotionRemover {
                                    MotionRemovalCounts& counts) const;
   // Whether the component of `root` spans at least `min_cells` (0: any size).
   bool spansAtLeast(uint32_t root, int min_cells) const;
-  // Whether the component of `root` is a round specular object the robot saw from around it
-  // (motion_removal.cpp, kRoundObjectSize): structure, though no cell of it is widely visible.
-  bool seenAroundRoundObject(uint32_t root) const;
 
   uint32_t find(uint32_t node);
   void unite(uint32_t a, uint32_t b);
@@ -115,26 +112,6 @@ class MotionRemover {
     int16_t min_x, min_y, max_x, max_y;  // box-local cells
   };
   std::vector<Extent> extent_;  // per root: bounding box of its cells
-  // Per root, direction_words_ words: the bins any of its cells reflects in.
-  std::vector<uint64_t> directions_;
-  int direction_words_ = 0;
-  // Per root: the lines its narrowly seen cells return along (a run's cell centre, box-local
-  // cells, and its middle direction), summed for their least-squares meeting point.
-  struct ReturnLines {
-    double a11 = 0, a12 = 0, a22 = 0;  // sum of I - d d^T
-    double b1 = 0, b2 = 0;             // sum of (I - d d^T) c
-    double s = 0;                      // sum of c^T (I - d d^T) c
-    double d1 = 0, d2 = 0, cd = 0;     // sum of d, sum of c . d
-    double n = 0;
-    void add(const ReturnLines& o) {
-      a11 += o.a11, a12 += o.a12, a22 += o.a22, b1 += o.b1, b2 += o.b2, s += o.s;
-      d1 += o.d1, d2 += o.d2, cd += o.cd, n += o.n;
-    }
-  };
-  std::vector<ReturnLines> lines_;
-  std::vector<Eigen::Vector2d> half_bin_directions_;  // unit vectors every half bin
-  int round_object_cells_ = 0;  // of the field being classified: kRoundObjectSize in cells
-  int round_object_bins_ = 0;   // kRoundObjectAngle in bins
   std::vector<uint32_t> root_;  // final root of each run
   std::vector<uint8_t>
       anchor_cell_;             // per box cell: anchors (widely visible or solid), drawn static
