@@ -330,22 +330,31 @@ LiveLabels addAndLabel(Mapper& mapper, const SyntheticWorld& world, const Pose2D
   return out;
 }
 
+// A room the robot, standing at the origin, has watched empty for a second, motion removal run:
+// its floor is free, seen free from where the robot stands.
+struct WatchedEmptyRoom {
+  WatchedEmptyRoom() : mapper(testing::scenarioOptions()) {
+    world.addWall({5.0, -3.0}, {5.0, 3.0});
+    world.addWall({-1.0, 3.0}, {5.0, 3.0});
+    world.addWall({-1.0, -3.0}, {5.0, -3.0});
+    for (int i = 0; i < 40; ++i)
+      look();
+    mapper.removeMotion();
+  }
+  LiveLabels look() { return addAndLabel(mapper, world, robot, stamp += 0.025); }
+
+  SyntheticWorld world;
+  Mapper mapper;
+  const Pose2D robot{Eigen::Vector2d(0.0, 0.0), 0.0};
+  double stamp = 0.0;
+};
+
 // A person steps into floor the robot has watched empty, in the direction it now sees them
 // from: the live labels remove them at once, before motion removal has seen them move.
 TEST(Mapper, LiveLabelsRemoveSomeoneSteppingIntoFloorSeenEmpty) {
-  SyntheticWorld world;
-  world.addWall({5.0, -3.0}, {5.0, 3.0});
-  world.addWall({-1.0, 3.0}, {5.0, 3.0});
-  world.addWall({-1.0, -3.0}, {5.0, -3.0});
-  Mapper mapper(testing::scenarioOptions());
-  const Pose2D robot{Eigen::Vector2d(0.0, 0.0), 0.0};
-  double stamp = 0.0;
-  for (int i = 0; i < 40; ++i)
-    addAndLabel(mapper, world, robot, stamp += 0.025);
-  mapper.removeMotion();  // the floor up to the far wall is free now
-
-  world.people = {{{2.5, 0.0}, 0.25}};
-  const LiveLabels seen = addAndLabel(mapper, world, robot, stamp += 0.025);
+  WatchedEmptyRoom room;
+  room.world.people = {{{2.5, 0.0}, 0.25}};
+  const LiveLabels seen = room.look();
   int person = 0, person_removed = 0, wall = 0, wall_kept = 0;
   for (size_t i = 0; i < seen.labels.size(); ++i) {
     const double range = seen.scan.scan.ranges[i];
@@ -394,19 +403,9 @@ TEST(Mapper, LiveLabelsKeepAPaneFirstSeenNearItsNormal) {
 // cone, a pole's rim) the scan's next beams go on through the same cell: the cell lets beams
 // through, it is no arrival, and the return stays kept.
 TEST(Mapper, LiveLabelsKeepAReturnTheBeamsBesideItGoPast) {
-  SyntheticWorld world;
-  world.addWall({5.0, -3.0}, {5.0, 3.0});
-  world.addWall({-1.0, 3.0}, {5.0, 3.0});
-  world.addWall({-1.0, -3.0}, {5.0, -3.0});
-  Mapper mapper(testing::scenarioOptions());
-  const Pose2D robot{Eigen::Vector2d(0.0, 0.0), 0.0};
-  double stamp = 0.0;
-  for (int i = 0; i < 40; ++i)
-    addAndLabel(mapper, world, robot, stamp += 0.025);
-  mapper.removeMotion();
-
-  world.people = {{{2.5, 0.0}, 0.003}};  // a 6 mm pole: one beam of 0.25 deg (11 mm at 2.5 m)
-  const LiveLabels seen = addAndLabel(mapper, world, robot, stamp += 0.025);
+  WatchedEmptyRoom room;
+  room.world.people = {{{2.5, 0.0}, 0.003}};  // a 6 mm pole: one beam of 0.25 deg (11 mm at 2.5 m)
+  const LiveLabels seen = room.look();
   int pole = 0, pole_kept = 0;
   for (size_t i = 0; i < seen.labels.size(); ++i) {
     if (seen.scan.scan.ranges[i] >= 2.9) continue;
