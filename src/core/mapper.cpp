@@ -275,13 +275,12 @@ std::vector<RayLabel> Mapper::labelScan(const TimedScan& scan, bool final_map) c
 
 std::vector<RayLabel> Mapper::labelValidScan(const TimedScan& scan, bool final_map,
                                              const std::vector<uint8_t>* checked,
-                                             bool just_added) const {
+                                             const ReflectanceField* inserted) const {
   std::vector<Ray> rays;
   scanToRays(scan.scan, scan.sensor_pose, options_.insertion, rays);
   return labelRays(rays, scan.scan.ranges.size(), impl_->reflections, impl_->classes,
                    field_.activeBox(), field_.geometry(),
-                   options_.active_region.active_region_radius, final_map, checked,
-                   just_added ? &field_ : nullptr);
+                   options_.active_region.active_region_radius, final_map, checked, inserted);
 }
 
 std::vector<RayLabel> Mapper::labelAddedScan(const TimedScan& scan,
@@ -289,8 +288,7 @@ std::vector<RayLabel> Mapper::labelAddedScan(const TimedScan& scan,
   if (!update.error.empty()) return update.labels;  // addScan refused it: every beam NO_RETURN
   // The insertion checked its returns against the classes the labels read (they change only
   // in removeMotion): a whole ray it checked is not checked again, its cut is in update.labels.
-  std::vector<RayLabel> labels =
-      labelValidScan(scan, false, &update.checked_returns, /*just_added=*/true);
+  std::vector<RayLabel> labels = labelValidScan(scan, false, &update.checked_returns, &field_);
   for (size_t i = 0; i < labels.size() && i < update.labels.size(); ++i) {
     if (update.labels[i] == RayLabel::kReflection) labels[i] = RayLabel::kReflection;
   }

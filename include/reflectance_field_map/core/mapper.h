@@ -181,11 +181,11 @@ class Mapper {
   // What reset() and load() start afresh besides the field and the map.
   void forgetDerivedState();
   // labelScan of a scan already validated; beams marked in `checked` (by beam, may be null)
-  // are not checked for passing through glass again. `just_added`: the field holds the scan's
-  // hits, so a return in a free cell can be told an arrival (labelRays).
+  // are not checked for passing through glass again; `inserted` (may be null): the field holding
+  // the scan's hits, which tells arrivals in free cells (labelRays).
   std::vector<RayLabel> labelValidScan(const TimedScan& scan, bool final_map,
                                        const std::vector<uint8_t>* checked = nullptr,
-                                       bool just_added = false) const;
+                                       const ReflectanceField* inserted = nullptr) const;
 
   MapperOptions options_;
   ReflectanceField field_;
