@@ -21,6 +21,19 @@ void ActiveClasses::enter(const std::vector<TileIndex>& tiles) {
     }
   }
   const CellBox box = window_.box();
+  // The entering cells carry the global map's classes: judge their glass against the window.
+  scratch_.clear();
+  for (int y = box.min.y(); y < box.max.y(); ++y) {
+    for (int x = box.min.x(); x < box.max.x(); ++x)
+      scratch_.push_back(classes_[window_.storageIndex({x, y})]);
+  }
+  if (panes_.demoteOffPane(box.width(), scratch_) > 0) {
+    size_t i = 0;
+    for (int y = box.min.y(); y < box.max.y(); ++y) {
+      for (int x = box.min.x(); x < box.max.x(); ++x)
+        classes_[window_.storageIndex({x, y})] = scratch_[i++];
+    }
+  }
   clearance_.compute(box, [&](int dx, int dy) {
     return !blocksRays(classes_[window_.storageIndex(box.min + CellIndex(dx, dy))]);
   });
@@ -28,6 +41,9 @@ void ActiveClasses::enter(const std::vector<TileIndex>& tiles) {
 
 CellBox ActiveClasses::replace(const ClassifiedRegion& region, ParallelRunner* runner) {
   const CellBox& box = region.box;
+  std::vector<CellClass>& checked = scratch_;
+  checked = region.classes;
+  panes_.demoteOffPane(box.width(), checked);
   auto unchanged = [&](int slot) {
     return !region.unchanged_tiles.empty() &&
            region.unchanged_tiles[slot >> window_.tileSlotShift()] != 0;
@@ -48,7 +64,7 @@ CellBox ActiveClasses::replace(const ClassifiedRegion& region, ParallelRunner* r
           size_t i = row * box.width() + (x_begin - box.min.x());
           for (int x = x_begin; x < x_end; ++x, ++slot) {
             CellClass& stored = classes_[slot];
-            const CellClass now = region.classes[i++];
+            const CellClass now = checked[i++];
             if (blocksRays(now)) {
               ++result.blocking;
               if (!blocksRays(stored) && now != CellClass::kStatic) {
@@ -70,7 +86,7 @@ CellBox ActiveClasses::replace(const ClassifiedRegion& region, ParallelRunner* r
   }
   if (blocking_changed || clearance_.box().min != box.min || clearance_.box().max != box.max) {
     clearance_.compute(box, [&](int dx, int dy) {
-      return !blocksRays(region.classes[static_cast<size_t>(dy) * box.width() + dx]);
+      return !blocksRays(checked[static_cast<size_t>(dy) * box.width() + dx]);
     });
   }
   return new_glass;

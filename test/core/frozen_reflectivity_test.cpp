@@ -28,7 +28,8 @@ TEST(FrozenReflectivity, KeepsTheMasksOfStaticCellsAsTheyWere) {
                    (cell.x() - region.box.min.x())] = c;
   };
   set(wall, CellClass::kStatic);
-  set(glass, CellClass::kGlass);
+  for (int i = 0; i < 6; ++i)
+    set(glass + CellIndex(0, i), CellClass::kGlass);  // a pane
   classes.replace(region, nullptr);
 
   FrozenReflectivity frozen;

@@ -1,10 +1,11 @@
-// The classes of the active region's cells, as the last motion removal left them.
+// The classes of the active region's cells as the reflection check reads them.
 #pragma once
 
 #include "reflectance_field_map/core/cell_class.h"
 #include "reflectance_field_map/core/clearance_map.h"
 #include "reflectance_field_map/core/global_map.h"
 #include "reflectance_field_map/core/grid_geometry.h"
+#include "reflectance_field_map/core/pane_shape.h"
 #include "reflectance_field_map/core/parallel_runner.h"
 #include "reflectance_field_map/core/rolling_window.h"
 
@@ -26,10 +27,11 @@ struct ClassifiedRegion {
   }
 };
 
-// The classes of the window's cells by storage index, and what the reflection check (Alg. 3)
-// reads of them: whether any cell blocks rays, and the clearance of the cells that do. Cells
-// outside the window have the classes of the global map (the explored map, which outlives the
-// window).
+// The classes of the window's cells by storage index, as the last motion removal left them but
+// for glass and metal on no pane, which read as static (PaneShape), and what the reflection
+// check (Alg. 3) reads of them: whether any cell blocks rays, and the clearance of the cells that
+// do. Cells outside the window have the classes of the global map (the explored map, which
+// outlives the window).
 class ActiveClasses {
  public:
   // `window` and `map` must outlive this; the clearance is kept in blocks of
@@ -55,7 +57,7 @@ class ActiveClasses {
   // Every cell unknown: the next placement of the window loads its classes afresh.
   void clear();
 
-  size_t bytes() const { return classes_.size() * sizeof(CellClass); }
+  size_t bytes() const { return (classes_.size() + scratch_.capacity()) * sizeof(CellClass); }
 
  private:
   const RollingWindow& window_;
@@ -64,6 +66,8 @@ class ActiveClasses {
   size_t blocking_cells_ = 0;
   ClearanceMap clearance_;
   std::vector<CellClass> entering_;  // enter(): a tile's classes from the global map
+  PaneShape panes_;
+  std::vector<CellClass> scratch_;  // a box's classes, row-major, as the check reads them
 };
 
 }  // namespace rfm

@@ -1,0 +1,99 @@
+#include "reflectance_field_map/core/pane_shape.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+namespace rfm {
+namespace {
+
+constexpr int kWidth = 80;
+
+struct Grid {
+  std::vector<CellClass> classes = std::vector<CellClass>(kWidth * kWidth, CellClass::kFree);
+  void set(int x, int y, CellClass c) { classes[static_cast<size_t>(y) * kWidth + x] = c; }
+  CellClass at(int x, int y) const { return classes[static_cast<size_t>(y) * kWidth + x]; }
+};
+
+TEST(PaneShape, StraightRunsOfGlassAreOnAPaneInAnyDirection) {
+  Grid grid;
+  for (int i = 0; i < 12; ++i) {
+    grid.set(10 + i, 10, CellClass::kGlass);          // along x
+    grid.set(10 + i, 30 + i, CellClass::kGlass);      // diagonal
+    grid.set(50 + i, 30 + i / 3, CellClass::kMetal);  // a shallow slope, rasterised in steps
+  }
+  PaneShape panes;
+  EXPECT_EQ(panes.demoteOffPane(kWidth, grid.classes), 0u);
+  for (int i = 0; i < 12; ++i) {
+    EXPECT_EQ(grid.at(10 + i, 10), CellClass::kGlass) << i;
+    EXPECT_EQ(grid.at(10 + i, 30 + i), CellClass::kGlass) << i;
+    EXPECT_EQ(grid.at(50 + i, 30 + i / 3), CellClass::kMetal) << i;
+  }
+}
+
+TEST(PaneShape, APaneInItsFramesAndAsThickAsOdometryDrawsItIsOnAPane) {
+  Grid grid;
+  // Three cells thick, glass and static frames mixed along it.
+  for (int x = 10; x < 30; ++x) {
+    for (int y = 20; y < 23; ++y)
+      grid.set(x, y, (x % 5 == 0 || y != 21) ? CellClass::kStatic : CellClass::kGlass);
+  }
+  PaneShape panes;
+  EXPECT_EQ(panes.demoteOffPane(kWidth, grid.classes), 0u);
+  EXPECT_EQ(grid.at(12, 21), CellClass::kGlass);
+}
+
+TEST(PaneShape, CurvedGlassIsOnAPane) {
+  Grid grid;
+  // A 300 degree arc of radius 3 m at 5 cm (60 cells would not fit: radius 35 cells, 1.75 m).
+  const double radius = 35.0;
+  for (double a = 0.0; a < 300.0 * M_PI / 180.0; a += 0.2 / radius) {
+    grid.set(static_cast<int>(std::lround(40 + radius * std::cos(a))),
+             static_cast<int>(std::lround(40 + radius * std::sin(a))), CellClass::kGlass);
+  }
+  PaneShape panes;
+  EXPECT_EQ(panes.demoteOffPane(kWidth, grid.classes), 0u);
+}
+
+TEST(PaneShape, BlobsShortRunsAndPilesAreOnNoPane) {
+  Grid grid;
+  for (int y = 10; y < 13; ++y) {
+    for (int x = 10; x < 13; ++x)
+      grid.set(x, y, CellClass::kGlass);  // a 3 x 3 blob
+  }
+  for (int x = 30; x < 33; ++x)
+    grid.set(x, 10, CellClass::kGlass);  // three cells in a row
+  for (int y = 40; y < 50; ++y) {
+    for (int x = 40; x < 50; ++x)
+      grid.set(x, y, CellClass::kStatic);  // a pile of clutter ...
+  }
+  grid.set(44, 44, CellClass::kGlass);  // ... with glass returns in it
+  grid.set(45, 47, CellClass::kMetal);
+  grid.set(60, 60, CellClass::kGlass);  // alone
+  PaneShape panes;
+  EXPECT_EQ(panes.demoteOffPane(kWidth, grid.classes), 9u + 3u + 2u + 1u);
+  EXPECT_EQ(grid.at(11, 11), CellClass::kStatic);
+  EXPECT_EQ(grid.at(31, 10), CellClass::kStatic);
+  EXPECT_EQ(grid.at(44, 44), CellClass::kStatic);
+  EXPECT_EQ(grid.at(45, 47), CellClass::kStatic);
+  EXPECT_EQ(grid.at(60, 60), CellClass::kStatic);
+  // Only glass and metal change.
+  EXPECT_EQ(grid.at(40, 40), CellClass::kStatic);
+  EXPECT_EQ(grid.at(0, 0), CellClass::kFree);
+}
+
+TEST(PaneShape, MotionAndFreeCellsDoNotJoinAPane) {
+  Grid grid;
+  // Glass continued by a trail of motion: three glass cells are no pane.
+  for (int x = 10; x < 13; ++x)
+    grid.set(x, 10, CellClass::kGlass);
+  for (int x = 13; x < 25; ++x)
+    grid.set(x, 10, CellClass::kMotion);
+  PaneShape panes;
+  EXPECT_EQ(panes.demoteOffPane(kWidth, grid.classes), 3u);
+  EXPECT_EQ(grid.at(13, 10), CellClass::kMotion);
+}
+
+}  // namespace
+}  // namespace rfm
