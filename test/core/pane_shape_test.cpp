@@ -14,6 +14,27 @@ struct Grid {
   std::vector<CellClass> classes = std::vector<CellClass>(kWidth * kWidth, CellClass::kFree);
   void set(int x, int y, CellClass c) { classes[static_cast<size_t>(y) * kWidth + x] = c; }
   CellClass at(int x, int y) const { return classes[static_cast<size_t>(y) * kWidth + x]; }
+  CellClass at(const CellIndex& cell) const {
+    const bool inside = cell.x() >= 0 && cell.y() >= 0 && cell.x() < kWidth && cell.y() < kWidth;
+    return inside ? at(cell.x(), cell.y()) : CellClass::kUnknown;
+  }
+  // Turns the glass and metal on no pane static, as the reflection check reads them; returns
+  // how many. A cell turned static stays an obstacle, so the order of cells does not matter.
+  size_t demoteOffPane() {
+    PaneShape panes;
+    size_t demoted = 0;
+    for (int y = 0; y < kWidth; ++y) {
+      for (int x = 0; x < kWidth; ++x) {
+        if (!isGlassOrMetal(at(x, y)) ||
+            panes.onPane({x, y}, [this](const CellIndex& c) { return at(c); })) {
+          continue;
+        }
+        set(x, y, CellClass::kStatic);
+        ++demoted;
+      }
+    }
+    return demoted;
+  }
 };
 
 TEST(PaneShape, StraightRunsOfGlassAreOnAPaneInAnyDirection) {
@@ -23,8 +44,7 @@ TEST(PaneShape, StraightRunsOfGlassAreOnAPaneInAnyDirection) {
     grid.set(10 + i, 30 + i, CellClass::kGlass);      // diagonal
     grid.set(50 + i, 30 + i / 3, CellClass::kMetal);  // a shallow slope, rasterised in steps
   }
-  PaneShape panes;
-  EXPECT_EQ(panes.demoteOffPane(kWidth, grid.classes), 0u);
+  EXPECT_EQ(grid.demoteOffPane(), 0u);
   for (int i = 0; i < 12; ++i) {
     EXPECT_EQ(grid.at(10 + i, 10), CellClass::kGlass) << i;
     EXPECT_EQ(grid.at(10 + i, 30 + i), CellClass::kGlass) << i;
@@ -39,8 +59,7 @@ TEST(PaneShape, APaneInItsFramesAndAsThickAsOdometryDrawsItIsOnAPane) {
     for (int y = 20; y < 23; ++y)
       grid.set(x, y, (x % 5 == 0 || y != 21) ? CellClass::kStatic : CellClass::kGlass);
   }
-  PaneShape panes;
-  EXPECT_EQ(panes.demoteOffPane(kWidth, grid.classes), 0u);
+  EXPECT_EQ(grid.demoteOffPane(), 0u);
   EXPECT_EQ(grid.at(12, 21), CellClass::kGlass);
 }
 
@@ -52,8 +71,7 @@ TEST(PaneShape, CurvedGlassIsOnAPane) {
     grid.set(static_cast<int>(std::lround(40 + radius * std::cos(a))),
              static_cast<int>(std::lround(40 + radius * std::sin(a))), CellClass::kGlass);
   }
-  PaneShape panes;
-  EXPECT_EQ(panes.demoteOffPane(kWidth, grid.classes), 0u);
+  EXPECT_EQ(grid.demoteOffPane(), 0u);
 }
 
 TEST(PaneShape, BlobsShortRunsAndPilesAreOnNoPane) {
@@ -71,8 +89,7 @@ TEST(PaneShape, BlobsShortRunsAndPilesAreOnNoPane) {
   grid.set(44, 44, CellClass::kGlass);  // ... with glass returns in it
   grid.set(45, 47, CellClass::kMetal);
   grid.set(60, 60, CellClass::kGlass);  // alone
-  PaneShape panes;
-  EXPECT_EQ(panes.demoteOffPane(kWidth, grid.classes), 9u + 3u + 2u + 1u);
+  EXPECT_EQ(grid.demoteOffPane(), 9u + 3u + 2u + 1u);
   EXPECT_EQ(grid.at(11, 11), CellClass::kStatic);
   EXPECT_EQ(grid.at(31, 10), CellClass::kStatic);
   EXPECT_EQ(grid.at(44, 44), CellClass::kStatic);
@@ -90,8 +107,7 @@ TEST(PaneShape, MotionAndFreeCellsDoNotJoinAPane) {
     grid.set(x, 10, CellClass::kGlass);
   for (int x = 13; x < 25; ++x)
     grid.set(x, 10, CellClass::kMotion);
-  PaneShape panes;
-  EXPECT_EQ(panes.demoteOffPane(kWidth, grid.classes), 3u);
+  EXPECT_EQ(grid.demoteOffPane(), 3u);
   EXPECT_EQ(grid.at(13, 10), CellClass::kMotion);
 }
 

@@ -57,7 +57,7 @@ class ActiveClasses {
   // Every cell unknown: the next placement of the window loads its classes afresh.
   void clear();
 
-  size_t bytes() const { return (classes_.size() + scratch_.capacity()) * sizeof(CellClass); }
+  size_t bytes() const { return classes_.size() * sizeof(CellClass); }
 
  private:
   const RollingWindow& window_;
@@ -67,7 +67,7 @@ class ActiveClasses {
   ClearanceMap clearance_;
   std::vector<CellClass> entering_;  // enter(): a tile's classes from the global map
   PaneShape panes_;
-  std::vector<CellClass> scratch_;  // a box's classes, row-major, as the check reads them
+  std::vector<size_t> off_pane_;  // replace(): the region's glass and metal on no pane
 };
 
 }  // namespace rfm

@@ -2,7 +2,9 @@
 #pragma once
 
 #include "reflectance_field_map/core/cell_class.h"
+#include "reflectance_field_map/core/grid_geometry.h"
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -26,19 +28,51 @@ class PaneShape {
   static constexpr double kMinLength = 5.0;
   static constexpr double kMaxHalfThickness = 2.5;
 
-  // Glass and metal cells of `classes` (row-major, `width` cells a row) that lie on no pane become
-  // static. Other cells are never changed, so the result does not depend on the order of cells.
-  // Returns the number of cells changed.
-  size_t demoteOffPane(int width, std::vector<CellClass>& classes);
-
-  // Whether the glass or metal cell (x, y) of `classes` lies on a pane.
-  bool onPane(int width, const std::vector<CellClass>& classes, int x, int y);
+  // Whether the cell lies on a pane; class_at(CellIndex) gives any cell's class (unknown where
+  // nothing is known).
+  template <typename ClassAt>
+  bool onPane(const CellIndex& cell, ClassAt&& class_at);
 
  private:
   static constexpr int kSide = 2 * kWindowRadius + 1;
+  static int local(int dx, int dy) { return (dy + kWindowRadius) * kSide + dx + kWindowRadius; }
+  // Whether members_[0, count) line up as a pane's cells do.
+  bool lineUp(size_t count) const;
+
   std::array<uint8_t, kSide * kSide> seen_{};
-  std::array<int16_t, 2 * kSide * kSide> members_{};  // (dx, dy) pairs from the cell
+  std::array<int8_t, 2 * kSide * kSide> members_{};  // (dx, dy) from the cell judged
   std::vector<int> stack_;
 };
+
+inline bool isGlassOrMetal(CellClass c) {
+  return c == CellClass::kGlass || c == CellClass::kMetal;
+}
+
+template <typename ClassAt>
+bool PaneShape::onPane(const CellIndex& cell, ClassAt&& class_at) {
+  auto obstacle = [](CellClass c) { return c == CellClass::kStatic || isGlassOrMetal(c); };
+  // The obstacle cells connected to the cell inside the window, as offsets from it.
+  seen_.fill(0);
+  size_t count = 0;
+  stack_.assign(1, local(0, 0));
+  seen_[local(0, 0)] = 1;
+  while (!stack_.empty()) {
+    const int l = stack_.back();
+    stack_.pop_back();
+    const int dx = l % kSide - kWindowRadius, dy = l / kSide - kWindowRadius;
+    members_[2 * count] = static_cast<int8_t>(dx);
+    members_[2 * count + 1] = static_cast<int8_t>(dy);
+    ++count;
+    for (int ny = std::max(dy - 1, -kWindowRadius); ny <= std::min(dy + 1, kWindowRadius); ++ny) {
+      for (int nx = std::max(dx - 1, -kWindowRadius); nx <= std::min(dx + 1, kWindowRadius); ++nx) {
+        if (seen_[local(nx, ny)]) continue;
+        seen_[local(nx, ny)] = 1;
+        if (obstacle(class_at(CellIndex(cell.x() + nx, cell.y() + ny))))
+          stack_.push_back(local(nx, ny));
+      }
+    }
+  }
+  return lineUp(count);
+}
 
 }  // namespace rfm
