@@ -16,8 +16,8 @@ namespace rfm {
 // straight: in the scan's plane, a line of obstacle cells (its glass, its frames, the wall it is
 // set in). Glass or metal cells on no such line (returns from clutter, from something seen from
 // one place only, from the rough face of a thick wall) give no reason to distrust a ray that
-// passed them; the reflection check reads them as static, which lets through a ray in any
-// direction they were seen narrowly from.
+// passed them: the reflection check reads them as static, and a static cell reflective over less
+// than static_blocking_min_angle, as glass is, cuts only rays without a return.
 //
 // A cell lies on a pane when the obstacle cells 8-connected to it within kWindowRadius cells lie
 // within kMaxHalfThickness cells of their principal line and span at least kMinLength cells
