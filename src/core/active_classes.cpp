@@ -1,7 +1,5 @@
 #include "reflectance_field_map/core/active_classes.h"
 
-#include <algorithm>
-
 namespace rfm {
 
 ActiveClasses::ActiveClasses(const RollingWindow& window, const GlobalMap2D& map,
@@ -22,17 +20,6 @@ void ActiveClasses::enter(const std::vector<TileIndex>& tiles) {
         classes_[window_.storageIndex({x, y})] = entering_[i++];
     }
   }
-  // The entering glass, judged once all of it is in: on no pane, it reads static.
-  auto window_class = [this](const CellIndex& cell) {
-    return window_.contains(cell) ? classes_[window_.storageIndex(cell)] : CellClass::kUnknown;
-  };
-  for (const TileIndex& tile : tiles) {
-    window_.forEachCell(window_.tileBox(tile), [&](int x, int y, int slot) {
-      if (isGlassOrMetal(classes_[slot]) && !panes_.onPane({x, y}, window_class)) {
-        classes_[slot] = CellClass::kStatic;
-      }
-    });
-  }
   const CellBox box = window_.box();
   clearance_.compute(box, [&](int dx, int dy) {
     return !blocksRays(classes_[window_.storageIndex(box.min + CellIndex(dx, dy))]);
@@ -41,23 +28,6 @@ void ActiveClasses::enter(const std::vector<TileIndex>& tiles) {
 
 CellBox ActiveClasses::replace(const ClassifiedRegion& region, ParallelRunner* runner) {
   const CellBox& box = region.box;
-  // Glass and metal on no pane read as static (sorted region indices).
-  off_pane_.clear();
-  auto region_class = [&region](const CellIndex& cell) {
-    return region.box.contains(cell) ? region.at(cell) : CellClass::kUnknown;
-  };
-  for (size_t i = 0; i < region.classes.size(); ++i) {
-    if (!isGlassOrMetal(region.classes[i])) continue;
-    const CellIndex cell(box.min.x() + static_cast<int>(i % box.width()),
-                         box.min.y() + static_cast<int>(i / box.width()));
-    if (!panes_.onPane(cell, region_class)) off_pane_.push_back(i);
-  }
-  auto checked = [&](size_t i) {
-    const CellClass c = region.classes[i];
-    return isGlassOrMetal(c) && std::binary_search(off_pane_.begin(), off_pane_.end(), i)
-               ? CellClass::kStatic
-               : c;
-  };
   auto unchanged = [&](int slot) {
     return !region.unchanged_tiles.empty() &&
            region.unchanged_tiles[slot >> window_.tileSlotShift()] != 0;
@@ -78,7 +48,7 @@ CellBox ActiveClasses::replace(const ClassifiedRegion& region, ParallelRunner* r
           size_t i = row * box.width() + (x_begin - box.min.x());
           for (int x = x_begin; x < x_end; ++x, ++slot) {
             CellClass& stored = classes_[slot];
-            const CellClass now = checked(i++);
+            const CellClass now = region.classes[i++];
             if (blocksRays(now)) {
               ++result.blocking;
               if (!blocksRays(stored) && now != CellClass::kStatic) {
@@ -100,7 +70,7 @@ CellBox ActiveClasses::replace(const ClassifiedRegion& region, ParallelRunner* r
   }
   if (blocking_changed || clearance_.box().min != box.min || clearance_.box().max != box.max) {
     clearance_.compute(box, [&](int dx, int dy) {
-      return !blocksRays(checked(static_cast<size_t>(dy) * box.width() + dx));
+      return !blocksRays(region.classes[static_cast<size_t>(dy) * box.width() + dx]);
     });
   }
   return new_glass;

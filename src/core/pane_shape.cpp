@@ -34,4 +34,23 @@ bool PaneShape::lineUp(size_t count) const {
   return across <= kMaxHalfThickness && last - first + 1.0 >= kMinLength;
 }
 
+OffPaneCells drawStaticOffPane(const CellBox& box, std::vector<CellClass>& classes,
+                               PaneShape& panes) {
+  auto class_at = [&](const CellIndex& cell) {
+    return box.contains(cell) ? classes[static_cast<size_t>(cell.y() - box.min.y()) * box.width() +
+                                        (cell.x() - box.min.x())]
+                              : CellClass::kUnknown;
+  };
+  OffPaneCells drawn;
+  for (int i = 0; i < static_cast<int>(classes.size()); ++i) {
+    if (!isGlassOrMetal(classes[i])) continue;
+    const CellIndex cell(box.min.x() + i % box.width(), box.min.y() + i / box.width());
+    if (panes.onPane(cell, class_at)) continue;
+    ++(classes[i] == CellClass::kGlass ? drawn.glass : drawn.metal);
+    classes[i] = CellClass::kStatic;
+    drawn.cells.push_back(i);
+  }
+  return drawn;
+}
+
 }  // namespace rfm

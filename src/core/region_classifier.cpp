@@ -31,20 +31,32 @@ MotionRemovalCounts RegionClassifier::classify(const ReflectanceField& field,
   // Glass the robot has not faced yet, on the lines of glass it has.
   const RollingWindow& window = field.window();
   const CellBox& box = region_.box;
-  std::vector<TileIndex> completed_tiles;
+  std::vector<TileIndex> redrawn_tiles;
+  auto tile_of = [&](int i) {
+    return window.tileOf({box.min.x() + i % box.width(), box.min.y() + i / box.width()});
+  };
   for (int i : completion_.complete(field, box, region_.classes)) {
-    completed_tiles.push_back(
-        window.tileOf({box.min.x() + i % box.width(), box.min.y() + i / box.width()}));
+    redrawn_tiles.push_back(tile_of(i));
     ++counts.glass_cells;
   }
+  // Glass and metal on no pane: static.
+  const OffPaneCells off_pane = drawStaticOffPane(box, region_.classes, panes_);
+  for (int i : off_pane.cells) {
+    if (redrawn_tiles.empty() || redrawn_tiles.back() != tile_of(i)) {
+      redrawn_tiles.push_back(tile_of(i));
+    }
+  }
+  counts.glass_cells -= off_pane.glass;
+  counts.metal_cells -= off_pane.metal;
+  counts.static_cells += off_pane.glass + off_pane.metal;
   region_.unchanged_tiles.clear();
-  if (motion_) markUnchangedTiles(window, completed_tiles);
-  completed_tiles_ = std::move(completed_tiles);
+  if (motion_) markUnchangedTiles(window, redrawn_tiles);
+  redrawn_tiles_ = std::move(redrawn_tiles);
   return counts;
 }
 
 void RegionClassifier::markUnchangedTiles(const RollingWindow& window,
-                                          const std::vector<TileIndex>& completed_tiles) {
+                                          const std::vector<TileIndex>& redrawn_tiles) {
   region_.unchanged_tiles.assign(window.storageTiles(), 0);
   for (const TileIndex& tile : window.tiles()) {
     region_.unchanged_tiles[window.storageTile(tile)] =
@@ -57,8 +69,8 @@ void RegionClassifier::markUnchangedTiles(const RollingWindow& window,
       }
     }
   };
-  mark_changed(completed_tiles);
-  mark_changed(completed_tiles_);
+  mark_changed(redrawn_tiles);
+  mark_changed(redrawn_tiles_);
 }
 
 void RegionClassifier::writeTo(const RollingWindow& window, GlobalMap2D& map) const {

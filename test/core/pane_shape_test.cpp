@@ -14,26 +14,12 @@ struct Grid {
   std::vector<CellClass> classes = std::vector<CellClass>(kWidth * kWidth, CellClass::kFree);
   void set(int x, int y, CellClass c) { classes[static_cast<size_t>(y) * kWidth + x] = c; }
   CellClass at(int x, int y) const { return classes[static_cast<size_t>(y) * kWidth + x]; }
-  CellClass at(const CellIndex& cell) const {
-    const bool inside = cell.x() >= 0 && cell.y() >= 0 && cell.x() < kWidth && cell.y() < kWidth;
-    return inside ? at(cell.x(), cell.y()) : CellClass::kUnknown;
-  }
-  // Turns the glass and metal on no pane static, as the reflection check reads them; returns
-  // how many. A cell turned static stays an obstacle, so the order of cells does not matter.
-  size_t demoteOffPane() {
+  // Draws the glass and metal on no pane static; returns how many.
+  size_t drawStatic() {
     PaneShape panes;
-    size_t demoted = 0;
-    for (int y = 0; y < kWidth; ++y) {
-      for (int x = 0; x < kWidth; ++x) {
-        if (!isGlassOrMetal(at(x, y)) ||
-            panes.onPane({x, y}, [this](const CellIndex& c) { return at(c); })) {
-          continue;
-        }
-        set(x, y, CellClass::kStatic);
-        ++demoted;
-      }
-    }
-    return demoted;
+    const OffPaneCells drawn = drawStaticOffPane({{0, 0}, {kWidth, kWidth}}, classes, panes);
+    EXPECT_EQ(drawn.cells.size(), drawn.glass + drawn.metal);
+    return drawn.cells.size();
   }
 };
 
@@ -44,7 +30,7 @@ TEST(PaneShape, StraightRunsOfGlassAreOnAPaneInAnyDirection) {
     grid.set(10 + i, 30 + i, CellClass::kGlass);      // diagonal
     grid.set(50 + i, 30 + i / 3, CellClass::kMetal);  // a shallow slope, rasterised in steps
   }
-  EXPECT_EQ(grid.demoteOffPane(), 0u);
+  EXPECT_EQ(grid.drawStatic(), 0u);
   for (int i = 0; i < 12; ++i) {
     EXPECT_EQ(grid.at(10 + i, 10), CellClass::kGlass) << i;
     EXPECT_EQ(grid.at(10 + i, 30 + i), CellClass::kGlass) << i;
@@ -59,7 +45,7 @@ TEST(PaneShape, APaneInItsFramesAndAsThickAsOdometryDrawsItIsOnAPane) {
     for (int y = 20; y < 23; ++y)
       grid.set(x, y, (x % 5 == 0 || y != 21) ? CellClass::kStatic : CellClass::kGlass);
   }
-  EXPECT_EQ(grid.demoteOffPane(), 0u);
+  EXPECT_EQ(grid.drawStatic(), 0u);
   EXPECT_EQ(grid.at(12, 21), CellClass::kGlass);
 }
 
@@ -71,7 +57,7 @@ TEST(PaneShape, CurvedGlassIsOnAPane) {
     grid.set(static_cast<int>(std::lround(40 + radius * std::cos(a))),
              static_cast<int>(std::lround(40 + radius * std::sin(a))), CellClass::kGlass);
   }
-  EXPECT_EQ(grid.demoteOffPane(), 0u);
+  EXPECT_EQ(grid.drawStatic(), 0u);
 }
 
 TEST(PaneShape, BlobsShortRunsAndPilesAreOnNoPane) {
@@ -89,7 +75,11 @@ TEST(PaneShape, BlobsShortRunsAndPilesAreOnNoPane) {
   grid.set(44, 44, CellClass::kGlass);  // ... with glass returns in it
   grid.set(45, 47, CellClass::kMetal);
   grid.set(60, 60, CellClass::kGlass);  // alone
-  EXPECT_EQ(grid.demoteOffPane(), 9u + 3u + 2u + 1u);
+  PaneShape panes;
+  const OffPaneCells drawn = drawStaticOffPane({{0, 0}, {kWidth, kWidth}}, grid.classes, panes);
+  EXPECT_EQ(drawn.glass, 9u + 3u + 1u + 1u);
+  EXPECT_EQ(drawn.metal, 1u);
+  EXPECT_EQ(drawn.cells.front(), 10 * kWidth + 10);
   EXPECT_EQ(grid.at(11, 11), CellClass::kStatic);
   EXPECT_EQ(grid.at(31, 10), CellClass::kStatic);
   EXPECT_EQ(grid.at(44, 44), CellClass::kStatic);
@@ -107,8 +97,24 @@ TEST(PaneShape, MotionAndFreeCellsDoNotJoinAPane) {
     grid.set(x, 10, CellClass::kGlass);
   for (int x = 13; x < 25; ++x)
     grid.set(x, 10, CellClass::kMotion);
-  EXPECT_EQ(grid.demoteOffPane(), 3u);
+  EXPECT_EQ(grid.drawStatic(), 3u);
   EXPECT_EQ(grid.at(13, 10), CellClass::kMotion);
+}
+
+TEST(PaneShape, ABoxAnywhereIsJudgedInItsOwnCells) {
+  const CellBox box{{-50, 30}, {-30, 40}};  // 20 x 10 cells
+  std::vector<CellClass> classes(20 * 10, CellClass::kFree);
+  for (int x = 2; x < 13; ++x)
+    classes[5 * 20 + x] = CellClass::kGlass;  // a pane
+  classes[2 * 20 + 17] = CellClass::kGlass;   // alone
+  classes[9 * 20 + 19] = CellClass::kMetal;   // alone, in the box's last cell
+  PaneShape panes;
+  const OffPaneCells drawn = drawStaticOffPane(box, classes, panes);
+  EXPECT_EQ(drawn.cells, (std::vector<int>{2 * 20 + 17, 9 * 20 + 19}));
+  EXPECT_EQ(classes[5 * 20 + 2], CellClass::kGlass);
+  // Judged alone, the pane's first cell is a lone cell of a box of its own.
+  std::vector<CellClass> one(1, CellClass::kGlass);
+  EXPECT_EQ(drawStaticOffPane({{-48, 35}, {-47, 36}}, one, panes).glass, 1u);
 }
 
 }  // namespace

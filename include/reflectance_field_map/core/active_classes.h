@@ -1,11 +1,10 @@
-// The classes of the active region's cells as the reflection check reads them.
+// The classes of the active region's cells, as the last motion removal left them.
 #pragma once
 
 #include "reflectance_field_map/core/cell_class.h"
 #include "reflectance_field_map/core/clearance_map.h"
 #include "reflectance_field_map/core/global_map.h"
 #include "reflectance_field_map/core/grid_geometry.h"
-#include "reflectance_field_map/core/pane_shape.h"
 #include "reflectance_field_map/core/parallel_runner.h"
 #include "reflectance_field_map/core/rolling_window.h"
 
@@ -27,11 +26,10 @@ struct ClassifiedRegion {
   }
 };
 
-// The classes of the window's cells by storage index, as the last motion removal left them but
-// for glass and metal on no pane, which read as static (PaneShape), and what the reflection
-// check (Alg. 3) reads of them: whether any cell blocks rays, and the clearance of the cells that
-// do. Cells outside the window have the classes of the global map (the explored map, which
-// outlives the window).
+// The classes of the window's cells by storage index, and what the reflection check (Alg. 3)
+// reads of them: whether any cell blocks rays, and the clearance of the cells that do. Cells
+// outside the window have the classes of the global map (the explored map, which outlives the
+// window).
 class ActiveClasses {
  public:
   // `window` and `map` must outlive this; the clearance is kept in blocks of
@@ -66,8 +64,6 @@ class ActiveClasses {
   size_t blocking_cells_ = 0;
   ClearanceMap clearance_;
   std::vector<CellClass> entering_;  // enter(): a tile's classes from the global map
-  PaneShape panes_;
-  std::vector<size_t> off_pane_;  // replace(): the region's glass and metal on no pane
 };
 
 }  // namespace rfm

@@ -128,8 +128,7 @@ class Mapper {
   GlobalMap2D releaseMap() { return std::exchange(map_, GlobalMap2D()); }
   const ReflectanceField& field() const { return field_; }
   const AnchorHistory& anchorHistory() const;
-  // Class of a cell: from the active region when inside it (as the reflection check reads it:
-  // glass and metal on no pane read as static), else from the global map.
+  // Class of a cell: from the active region when inside it, else from the global map.
   CellClass cellClass(const CellIndex& cell) const;
 
   // Per-beam labels of a scan against the current map (paper Sec. VI-A, labelRays): NO_RETURN,

@@ -1,4 +1,4 @@
-// Which glass and metal cells Alg. 3 cuts rays at: those that lie on a pane.
+// Glass and metal lie on a pane: the rest of what eq. 5 and Alg. 2 leave glass is drawn static.
 #pragma once
 
 #include "reflectance_field_map/core/cell_class.h"
@@ -12,12 +12,12 @@
 
 namespace rfm {
 
-// Alg. 3 distrusts what a ray saw beyond glass because a pane let it through. A pane is thin and
-// straight: in the scan's plane, a line of obstacle cells (its glass, its frames, the wall it is
-// set in). Glass or metal cells on no such line (returns from clutter, from something seen from
-// one place only, from the rough face of a thick wall) give no reason to distrust a ray that
-// passed them: the reflection check reads them as static, and a static cell reflective over less
-// than static_blocking_min_angle, as glass is, cuts only rays without a return.
+// Glass is a pane, and a pane is thin and straight: in the scan's plane, a line of obstacle cells
+// (its glass, its frames, the wall it is set in). Cells seen from a narrow range of directions
+// that lie on no such line are returns from clutter, from something seen from one place only or
+// from the rough face of a thick wall: drawn static, and Alg. 3 has no reason to distrust a ray
+// that passed them (a static cell reflective over less than static_blocking_min_angle, as they
+// are, cuts only rays without a return).
 //
 // A cell lies on a pane when the obstacle cells 8-connected to it within kWindowRadius cells lie
 // within kMaxHalfThickness cells of their principal line and span at least kMinLength cells
@@ -47,6 +47,19 @@ class PaneShape {
 inline bool isGlassOrMetal(CellClass c) {
   return c == CellClass::kGlass || c == CellClass::kMetal;
 }
+
+// The cells drawStaticOffPane changed: indices in `classes`, ascending, and how many of them were
+// glass and how many metal.
+struct OffPaneCells {
+  std::vector<int> cells;
+  size_t glass = 0, metal = 0;
+};
+
+// Draws the glass and metal cells of `classes` (row-major over `box`) that lie on no pane static;
+// cells outside the box count as unknown. A cell drawn static stays an obstacle, so the result
+// does not depend on the order of cells.
+OffPaneCells drawStaticOffPane(const CellBox& box, std::vector<CellClass>& classes,
+                               PaneShape& panes);
 
 template <typename ClassAt>
 bool PaneShape::onPane(const CellIndex& cell, ClassAt&& class_at) {
