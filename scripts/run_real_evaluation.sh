@@ -177,8 +177,8 @@ $no_static of $logs.
 A dropped cell *unknown* holds no evidence in the RFM: rays that passed through glass on a pane
 (a thin straight line of obstacle cells, doc/design.md) lose all they saw beyond it (Alg. 3), so
 what a window shows outside, or what a wall face or doorway wrongly found glass hides, stays
-unknown (\`--no-reflection-removal\` keeps it). Glass found on clutter, off any such line, cuts
-no ray. *Motion* is
+unknown (\`--no-reflection-removal\` keeps it). Returns from clutter seen narrowly, off any
+such line, are drawn static and cut no ray. *Motion* is
 evidence later seen through: people, and chairs and clutter moved or seen from few places.
 None of these buildings has glass annotated, so the glass cells cannot be scored here; in the
 pictures most lie on furniture and clutter in rooms. The random scenes

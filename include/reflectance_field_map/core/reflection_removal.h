@@ -21,11 +21,10 @@ namespace detail {
 class PassThroughDetector;
 }  // namespace detail
 
-// Checks rays against the glass, metal and static cells of the active region as ActiveClasses
-// reads them (glass and metal on no pane read static) and cuts those that pass through one just
-// past it: their misses beyond it and their hit are discarded, as Alg. 3 discards evidence beyond
-// glass. Online, it also keeps the latest scans as inserted and, when motion removal finds new
-// glass, takes back their evidence from beyond it.
+// Checks rays against the glass, metal and static cells of the active region (ActiveClasses)
+// and cuts those that pass through one just past it: their misses beyond it and their hit are
+// discarded, as Alg. 3 discards evidence beyond glass. Online, it also keeps the latest scans as
+// inserted and, when motion removal finds new glass, takes back their evidence from beyond it.
 class ReflectionRemover {
  public:
   // `field` and `classes` must outlive this.
