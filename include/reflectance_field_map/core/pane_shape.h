@@ -1,4 +1,4 @@
-// Glass and metal lie on a pane: the rest of what eq. 5 and Alg. 2 leave glass is drawn static.
+// Glass and metal are kept only where they lie on a pane; the rest is drawn static.
 #pragma once
 
 #include "reflectance_field_map/core/cell_class.h"
