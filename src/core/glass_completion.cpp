@@ -1,5 +1,6 @@
 #include "reflectance_field_map/core/glass_completion.h"
 
+#include "reflectance_field_map/core/line_fit.h"
 #include "reflectance_field_map/core/ray_traversal.h"
 
 #include <algorithm>
@@ -74,35 +75,20 @@ bool GlassCompletion::describeRun(const ReflectanceField& field, const CellBox& 
                                   const std::vector<int>& members, Run& run) {
   const int width = box.width();
   // The line through the cells (principal axis) and how far they stray from it.
-  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
   double missed = 0.0;
   auto cellOf = [&](int i) { return CellIndex(box.min.x() + i % width, box.min.y() + i / width); };
+  points_.clear();
   for (int i : members) {
-    centre += geometry_.cellCenter(cellOf(i));
+    points_.push_back(geometry_.cellCenter(cellOf(i)));
     missed += field.missedBins(cellOf(i));
   }
-  centre /= static_cast<double>(members.size());
   missed /= static_cast<double>(members.size());
-  double xx = 0.0, xy = 0.0, yy = 0.0;
-  for (int i : members) {
-    const Eigen::Vector2d p = geometry_.cellCenter(cellOf(i)) - centre;
-    xx += p.x() * p.x();
-    xy += p.x() * p.y();
-    yy += p.y() * p.y();
-  }
-  const double angle = 0.5 * std::atan2(2.0 * xy, xx - yy);
-  run.centre = centre;
-  run.direction = Eigen::Vector2d(std::cos(angle), std::sin(angle));
-  const Eigen::Vector2d normal(-run.direction.y(), run.direction.x());
-  double off_line = 0.0;
-  run.first = 0.0;
-  run.last = 0.0;
-  for (int i : members) {
-    const Eigen::Vector2d p = geometry_.cellCenter(cellOf(i)) - centre;
-    off_line = std::max(off_line, std::abs(p.dot(normal)));
-    run.first = std::min(run.first, p.dot(run.direction));
-    run.last = std::max(run.last, p.dot(run.direction));
-  }
+  const LineFit line = fitLine(points_);
+  run.centre = line.centre;
+  run.direction = line.direction;
+  run.first = line.first;
+  run.last = line.last;
+  const double off_line = line.across;
   if (off_line > kMaxOffLine * geometry_.resolution() || missed < kMinMeanMissedBins) return false;
   // Where this glass returns: the bins most of its cells reflect in.
   const int bins = geometry_.thetaBins();

@@ -54,6 +54,7 @@ class GlassCompletion {
   std::vector<int> visited_cells_;
   std::vector<int> completed_;
   std::vector<int> bin_counts_;
+  std::vector<Eigen::Vector2d> points_;  // describeRun(): the run's cell centres
 };
 
 }  // namespace rfm

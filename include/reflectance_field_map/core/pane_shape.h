@@ -4,6 +4,8 @@
 #include "reflectance_field_map/core/cell_class.h"
 #include "reflectance_field_map/core/grid_geometry.h"
 
+#include <Eigen/Core>
+
 #include <algorithm>
 #include <array>
 #include <cstddef>
@@ -36,11 +38,11 @@ class PaneShape {
  private:
   static constexpr int kSide = 2 * kWindowRadius + 1;
   static int local(int dx, int dy) { return (dy + kWindowRadius) * kSide + dx + kWindowRadius; }
-  // Whether members_[0, count) line up as a pane's cells do.
-  bool lineUp(size_t count) const;
+  // Whether members_ line up as a pane's cells do.
+  bool lineUp() const;
 
   std::array<uint8_t, kSide * kSide> seen_{};
-  std::array<int8_t, 2 * kSide * kSide> members_{};  // (dx, dy) from the cell judged
+  std::vector<Eigen::Vector2d> members_;  // offsets (cells) from the cell judged
   std::vector<int> stack_;
 };
 
@@ -66,16 +68,14 @@ bool PaneShape::onPane(const CellIndex& cell, ClassAt&& class_at) {
   auto obstacle = [](CellClass c) { return c == CellClass::kStatic || isGlassOrMetal(c); };
   // The obstacle cells connected to the cell inside the window, as offsets from it.
   seen_.fill(0);
-  size_t count = 0;
+  members_.clear();
   stack_.assign(1, local(0, 0));
   seen_[local(0, 0)] = 1;
   while (!stack_.empty()) {
     const int l = stack_.back();
     stack_.pop_back();
     const int dx = l % kSide - kWindowRadius, dy = l / kSide - kWindowRadius;
-    members_[2 * count] = static_cast<int8_t>(dx);
-    members_[2 * count + 1] = static_cast<int8_t>(dy);
-    ++count;
+    members_.emplace_back(dx, dy);
     for (int ny = std::max(dy - 1, -kWindowRadius); ny <= std::min(dy + 1, kWindowRadius); ++ny) {
       for (int nx = std::max(dx - 1, -kWindowRadius); nx <= std::min(dx + 1, kWindowRadius); ++nx) {
         if (seen_[local(nx, ny)]) continue;
@@ -85,7 +85,7 @@ bool PaneShape::onPane(const CellIndex& cell, ClassAt&& class_at) {
       }
     }
   }
-  return lineUp(count);
+  return lineUp();
 }
 
 }  // namespace rfm
