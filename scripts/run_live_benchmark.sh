@@ -4,8 +4,8 @@
 # its filtered scans) and reports per run: scans played, processed, dropped by the node and never
 # reaching it (a full subscriber queue); the node's CPU share; the node's own latencies, median,
 # p99 and max: a scan's arrival to its filtered scan (wall clock) and its stamp to its filtered
-# scan (ROS time: the sweep and the TF wait included); map messages with the cells and time they
-# cost; peak RSS.
+# scan (ROS time: the sweep and the TF wait included); a motion-removal pass's start to its map
+# update published (wall clock); map messages with the cells and time they cost; peak RSS.
 #
 #   scripts/run_live_benchmark.sh          # the tables go to OUT/live_benchmark.md
 #
@@ -182,22 +182,24 @@ for path in sorted(glob.glob(os.path.join(out, "runs", "*.json")), key=order):
 print("| run | scans played | processed | dropped by the node | never reached it | CPU (one core) "
       "| arrival to filtered ms: median / p99 / max | of it, the TF wait: median / p99 "
       "| and the node's own work: median / p99 / max "
-      "| stamp to filtered ms: median / p99 / max | peak RSS MB |")
-print("|---|---:|---:|---:|---:|---:|---|---|---|---|---:|")
+      "| stamp to filtered ms: median / p99 / max "
+      "| motion-removal pass to its map update ms: median / p99 / max | peak RSS MB |")
+print("|---|---:|---:|---:|---:|---:|---|---|---|---|---|---:|")
 for name, r in rows:
     if name.startswith("campus") or name == "idle":
         continue
     w, s = r["arrival_to_filtered_ms"], r["stamp_to_filtered_ms"]
-    t, o = r.get("tf_wait_ms", {}), r.get("own_work_ms", {})
+    t, o, u = r.get("tf_wait_ms", {}), r.get("own_work_ms", {}), r.get("pass_to_update_ms", {})
     cpu = r.get("cpu_share_of_one_core")
     print("| %s | %s | %s | %s | %s | %s %% | %s / %s / %s | %s / %s | %s / %s / %s "
-          "| %s / %s / %s | %s |" % (
+          "| %s / %s / %s | %s / %s / %s | %s |" % (
         name, r.get("scans_played"), r.get("scans_processed"), r.get("scans_dropped"),
         r.get("scans_never_seen"), fmt(cpu and 100 * cpu),
         fmt(w.get("median"), 2), fmt(w.get("p99"), 2), fmt(w.get("max"), 2),
         fmt(t.get("median"), 2), fmt(t.get("p99"), 2),
         fmt(o.get("median"), 2), fmt(o.get("p99"), 2), fmt(o.get("max"), 2), fmt(s.get("median")),
-        fmt(s.get("p99")), fmt(s.get("max")), fmt(r["peak_rss_kb"] and r["peak_rss_kb"] / 1024.0)))
+        fmt(s.get("p99")), fmt(s.get("max")), fmt(u.get("median"), 2), fmt(u.get("p99"), 2),
+        fmt(u.get("max"), 2), fmt(r["peak_rss_kb"] and r["peak_rss_kb"] / 1024.0)))
 print()
 print("| campus (%.0f s of the recording) | full maps | updates | cells (bytes) per s "
       "| publishing ms per s | publishing ms per message |" % campus_seconds)

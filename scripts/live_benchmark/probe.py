@@ -6,7 +6,8 @@
 It subscribes to the node's filtered scans (/rfm/<leaf>/filtered) as a consumer would, so the
 node labels and publishes them, without decoding them (it only counts). The latencies are the
 node's own (/diagnostics, on wall time, since its start): a scan's arrival at the node to its
-filtered scan published (wall clock), and ROS time at that moment less the scan's stamp. It
+filtered scan published (wall clock), ROS time at that moment less the scan's stamp, and a
+motion-removal pass's start to its map update published (wall clock). It
 samples the node's CPU time (/proc/PID/stat) and peak resident memory (VmHWM), and keeps the last
 /rfm/stats (map messages, their cells and publishing time). It ends once the node has processed
 or dropped --expect scans, or when interrupted (SIGINT or SIGTERM).
@@ -36,7 +37,10 @@ LATENCIES = {"Scan latency median (ms)": ("arrival_to_filtered_ms", "median"),
              "Scan work max (ms)": ("own_work_ms", "max"),
              "Scan age median (ms)": ("stamp_to_filtered_ms", "median"),
              "Scan age p99 (ms)": ("stamp_to_filtered_ms", "p99"),
-             "Scan age max (ms)": ("stamp_to_filtered_ms", "max")}
+             "Scan age max (ms)": ("stamp_to_filtered_ms", "max"),
+             "Pass to map update median (ms)": ("pass_to_update_ms", "median"),
+             "Pass to map update p99 (ms)": ("pass_to_update_ms", "p99"),
+             "Pass to map update max (ms)": ("pass_to_update_ms", "max")}
 
 
 def cpu_seconds(pid):

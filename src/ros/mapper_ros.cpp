@@ -430,8 +430,7 @@ void MapperRos::processScan(ScanInput& input, ArrivedScan arrived) {
   if (last_pass_stamp_ && stamp < *last_pass_stamp_ - 2.0 * period) last_pass_stamp_ = stamp;
   if (!last_pass_stamp_ || stamp - *last_pass_stamp_ >= period) {
     last_pass_stamp_ = stamp;
-    runMotionRemovalLocked();
-    publishMapUpdateLocked();
+    removeMotionAndPublishLocked();
   }
 }
 
@@ -493,8 +492,13 @@ void MapperRos::motionRemovalTimer(const ros::WallTimerEvent&) {
   std::lock_guard<std::mutex> lock(mapper_mutex_);
   if (scans_since_motion_removal_ == 0) return;
   if (ros::Time::now() - last_scan_processed_ < ros::Duration(motionRemovalPeriod())) return;
+  removeMotionAndPublishLocked();
+}
+
+void MapperRos::removeMotionAndPublishLocked() {
+  const auto start = std::chrono::steady_clock::now();
   runMotionRemovalLocked();
-  publishMapUpdateLocked();
+  if (publishMapUpdateLocked()) pass_to_update_.add(elapsedMs(start));
 }
 
 void MapperRos::runMotionRemovalLocked() {
@@ -532,7 +536,7 @@ void MapperRos::publishFullMapLocked() {
   map_tally_.ms += last_publish_ms_;
 }
 
-void MapperRos::publishMapUpdateLocked() {
+bool MapperRos::publishMapUpdateLocked() {
   const rfm::GlobalMap2D& map = mapper_->map();
   const rfm::CellBox bounds = map.bounds();
   const bool same_geometry =
@@ -540,10 +544,10 @@ void MapperRos::publishMapUpdateLocked() {
   if (!same_geometry) {
     // The map grew: subscribers need a new full grid before any update can apply.
     publishFullMapLocked();
-    return;
+    return true;
   }
   const rfm::CellBox changed = mapper_->takeMapChanges().intersect(published_box_);
-  if (changed.empty()) return;
+  if (changed.empty()) return false;
   const auto start = std::chrono::steady_clock::now();
   const map_msgs::OccupancyGridUpdate update =
       toOccupancyGridUpdate(map, changed, published_box_, params_.fixed_frame, ros::Time::now());
@@ -552,6 +556,7 @@ void MapperRos::publishMapUpdateLocked() {
   last_publish_ms_ = elapsedMs(start);
   ++map_tally_.updates;
   map_tally_.ms += last_publish_ms_;
+  return true;
 }
 
 void MapperRos::publishMarkersLocked() {
@@ -606,6 +611,9 @@ void MapperRos::statsTimer(const ros::WallTimerEvent&) {
     msg.scan_age_ms_median = scan_age_.quantile(0.5);
     msg.scan_age_ms_p99 = scan_age_.quantile(0.99);
     msg.scan_age_ms_max = scan_age_.max();
+    msg.pass_to_update_ms_median = pass_to_update_.quantile(0.5);
+    msg.pass_to_update_ms_p99 = pass_to_update_.quantile(0.99);
+    msg.pass_to_update_ms_max = pass_to_update_.max();
   }
   msg.header.stamp = ros::Time::now();
   msg.header.frame_id = params_.fixed_frame;
@@ -689,8 +697,7 @@ bool MapperRos::saveMap(reflectance_field_map::SaveMap::Request& request,
     std::lock_guard<std::mutex> lock(mapper_mutex_);
     // Classify what arrived since the last pass so the files hold every scan so far.
     if (scans_since_motion_removal_ > 0) {
-      runMotionRemovalLocked();
-      publishMapUpdateLocked();
+      removeMotionAndPublishLocked();
     }
     response.success = saveMapFiles(prefix, *mapper_, params_.fixed_frame, &error);
   }
@@ -877,6 +884,9 @@ void MapperRos::diagnoseMapper(diagnostic_updater::DiagnosticStatusWrapper& stat
   status.add("Scan age median (ms)", scan_age_.quantile(0.5));
   status.add("Scan age p99 (ms)", scan_age_.quantile(0.99));
   status.add("Scan age max (ms)", scan_age_.max());
+  status.add("Pass to map update median (ms)", pass_to_update_.quantile(0.5));
+  status.add("Pass to map update p99 (ms)", pass_to_update_.quantile(0.99));
+  status.add("Pass to map update max (ms)", pass_to_update_.max());
   status.add("Scan insertion time (ms)", stats.last_insert_ms);
   status.add("Reflection check time (ms)", stats.last_reflection_ms);
   status.add("Motion removal time (ms)", stats.last_motion_removal_ms);

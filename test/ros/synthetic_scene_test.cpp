@@ -281,6 +281,23 @@ TEST(SyntheticScene, MapHasThePaneAndTheWallOccupied) {
          }();
 }
 
+// /rfm/stats says how far /rfm/map_updates trails the motion-removal passes: every pass of the
+// drive changed the map, so each was timed from its start to its update.
+TEST(SyntheticScene, StatsTimeEachPassToItsMapUpdate) {
+  ensureDriven();
+  auto timed = [&] {
+    std::lock_guard<std::mutex> lock(scenario->mutex_);
+    return scenario->stats_.pass_to_update_ms_max > 0.0;
+  };
+  EXPECT_TRUE(waitFor(timed, 10.0)) << "no pass timed in /rfm/stats";
+  std::lock_guard<std::mutex> lock(scenario->mutex_);
+  const reflectance_field_map::RfmStats& stats = scenario->stats_;
+  EXPECT_GT(stats.pass_to_update_ms_median, 0.0);
+  EXPECT_LE(stats.pass_to_update_ms_median, stats.pass_to_update_ms_p99);
+  // Quantiles are their bucket's upper edge, 2 % wide.
+  EXPECT_LE(stats.pass_to_update_ms_p99, stats.pass_to_update_ms_max * 1.03);
+}
+
 // Rays through the pane (seen away from its normal) reach the back wall: the cells they cross
 // between the pane and the back wall are free space, never obstacles.
 TEST(SyntheticScene, NoPhantomObstaclesBehindTheGlass) {

@@ -146,10 +146,14 @@ class MapperRos {
                 std::atomic<uint64_t>& reason_total);
 
   // With mapper_mutex_ held.
+  // A motion-removal pass and the map update carrying its changes (pass_to_update_).
+  void removeMotionAndPublishLocked();
   void runMotionRemovalLocked();
   double motionRemovalPeriod() const;  // s
   void publishFullMapLocked();
-  void publishMapUpdateLocked();
+  // The changed window to /rfm/map_updates, or the full map when its bounds grew; false when
+  // nothing changed.
+  bool publishMapUpdateLocked();
   void publishMarkersLocked();
   void resetMapperLocked();
 
@@ -189,6 +193,9 @@ class MapperRos {
   LatencyHistogram scan_work_;
   // And from its stamp (ROS time): what a consumer of the filtered scan sees, the sweep included.
   LatencyHistogram scan_age_;
+  // Each motion-removal pass's wall time from its start to its map update (or full map)
+  // published: how far /rfm/map_updates trails the scans the pass classified.
+  LatencyHistogram pass_to_update_;
 
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<TransformListenerThread> tf_listener_;
