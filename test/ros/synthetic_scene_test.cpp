@@ -281,8 +281,8 @@ TEST(SyntheticScene, MapHasThePaneAndTheWallOccupied) {
          }();
 }
 
-// /rfm/stats says how far /rfm/map_updates trails the motion-removal passes: every pass of the
-// drive changed the map, so each was timed from its start to its update.
+// /rfm/stats says how far /rfm/map_updates trails the motion-removal passes: the drive's passes
+// change the map, so they are timed from their start to their update.
 TEST(SyntheticScene, StatsTimeEachPassToItsMapUpdate) {
   ensureDriven();
   auto timed = [&] {
