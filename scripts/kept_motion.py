@@ -10,7 +10,9 @@ hit (the nearest person of the scene file at the scan's stamp, within 0.7 m):
     radius of where they stood, on past its middle) while they were a metre or more away: the
     map was never shown the spot empty;
   - standing, left, seen: some later beam did (at least one: an upper bound on what a map could
-    have removed).
+    have removed), split by whether any of those beams returned from beyond the spot (seen by a
+    return) or none did (seen without a return: beams beyond range, which the RFM takes for
+    dropouts where they cross structure).
 
     scripts/kept_motion.py OUT [MAPPER ...]    # MAPPER: RFM (default), plain_grid
 
@@ -31,6 +33,7 @@ KEPT = 1  # RayLabels.KEPT
 NEAREST_PERSON = 0.7  # m
 PERSON_GONE = 1.0  # m from the spot
 STEP = 0.05  # s, as the simulator's crowd planner samples
+NO_RETURN = 1e9  # m: the range a beam without a return (+inf) is read as
 
 
 class Person:
@@ -127,7 +130,7 @@ def read_scans(bag_path):
             pose = compose(compose(lookup(("map", "odom"), stamp),
                                    lookup(("odom", "base_link"), stamp)),
                            mounts[msg.header.frame_id])
-            ranges = np.nan_to_num(np.array(msg.ranges), posinf=1e9)
+            ranges = np.nan_to_num(np.array(msg.ranges), posinf=NO_RETURN)
             angles = pose[2] + msg.angle_min + msg.angle_increment * np.arange(len(ranges))
             scans.append({"key": key, "stamp": stamp, "x": pose[0], "y": pose[1],
                           "cos": np.cos(angles), "sin": np.sin(angles), "ranges": ranges,
@@ -136,9 +139,12 @@ def read_scans(bag_path):
 
 
 def seen_through(scans, person, spot, after, origin):
-    """Whether a beam of a scan after `after` (scene time), with the person gone from the spot,
-    crossed their footprint there (passed within their radius of it, and on past its middle).
-    Beams pass between a standing person's legs, hence only with the person gone."""
+    """How a beam of a scan after `after` (scene time), with the person gone from the spot,
+    crossed their footprint there (passed within their radius of it, and on past its middle):
+    "left, seen by a return" if one such beam returned from beyond it, "left, seen without a
+    return" if only beams without a return did, None if none did. Beams pass between a standing
+    person's legs, hence only with the person gone."""
+    seen = None
     for scan in scans:
         t = scan["stamp"] - origin
         if t <= after:
@@ -149,9 +155,13 @@ def seen_through(scans, person, spot, after, origin):
         vx, vy = spot[0] - scan["x"], spot[1] - scan["y"]
         along = vx * scan["cos"] + vy * scan["sin"]
         across = np.abs(vy * scan["cos"] - vx * scan["sin"])
-        if np.any((along > 0.0) & (across < person.radius) & (scan["ranges"] > along)):
-            return True
-    return False
+        crossing = (along > 0.0) & (across < person.radius) & (scan["ranges"] > along)
+        if not np.any(crossing):
+            continue
+        if np.any(scan["ranges"][crossing] < NO_RETURN):
+            return "left, seen by a return"
+        seen = "left, seen without a return"
+    return seen
 
 
 def read_labels(path):
@@ -168,15 +178,15 @@ def classify_run(directory, mappers):
     scene = yaml.safe_load(open(os.path.join(directory, "scene.yaml")))
     people = [Person(spec) for spec in scene.get("people", [])]
     scans, origin = read_scans(os.path.join(directory, "sim.bag"))
-    spots = {}  # (person, x, y) -> "stays" / "left unseen" / "left, seen": the same for every map
+    spots = {}  # (person, x, y) -> "stays", "left unseen" or "left, seen ...", for every map
     return {mapper: classify_labels(directory, mapper, scene["duration"], people, scans, origin,
                                     spots) for mapper in mappers}
 
 
 def classify_labels(directory, mapper, duration, people, scans, origin, spots):
     labels = read_labels(os.path.join(directory, mapper, "labels.bag"))
-    counts = {"motion": 0, "walking": 0, "stays": 0, "left unseen": 0, "left, seen": 0,
-              "nobody near": 0}
+    counts = {"motion": 0, "walking": 0, "stays": 0, "left unseen": 0,
+              "left, seen without a return": 0, "left, seen by a return": 0, "nobody near": 0}
     for scan in scans:
         motion = np.nonzero(scan["truth"] == MOTION)[0]
         counts["motion"] += len(motion)
@@ -205,7 +215,7 @@ def classify_labels(directory, mapper, duration, people, scans, origin, spots):
                     spots[spot] = "stays"
                 else:
                     seen = seen_through(scans, people[i], position, left, origin)
-                    spots[spot] = "left, seen" if seen else "left unseen"
+                    spots[spot] = seen or "left unseen"
             counts[spots[spot]] += 1
     return counts
 
@@ -231,7 +241,8 @@ def main():
             total["seeds"] += 1
             for k, v in counts.items():
                 total[k] = total.get(k, 0) + v
-    columns = ["walking", "stays", "left unseen", "left, seen", "nobody near"]
+    columns = ["walking", "stays", "left unseen", "left, seen without a return",
+               "left, seen by a return", "nobody near"]
     print("| setup | seeds | mapper | motion beams | removed (%) | kept, of all motion beams (%): "
           + " / ".join(columns) + " |")
     print("|---|---|---|---:|---:|---|")

@@ -152,8 +152,10 @@ rosrun reflectance_field_map rfm_eval --report "$MANIFEST" --out "$REPORT" --pre
   echo "(the scene file's people, moved as rfm_sim moves them): walking; standing, and still there"
   echo "when the recording ends (stays); standing, left later, and no later beam crossed their"
   echo "footprint with the person a metre or more away (left unseen); or some beam did (left, seen:"
-  echo "an upper bound on what a map could have removed). The recording never shows the first two"
-  echo "kinds of standing gone. Shares of all true motion beams."
+  echo "an upper bound on what a map could have removed), only beams without a return (which the"
+  echo "RFM takes for dropouts where they cross structure) or at least one that returned from beyond"
+  echo "the spot. The recording never shows the first two kinds of standing gone. Shares of all true"
+  echo "motion beams."
   echo
   python3 "$REPO/scripts/kept_motion.py" "$OUT" RFM plain_grid RFM_live
 } >> "$REPORT"
