@@ -73,14 +73,12 @@ void GlassCompletion::collectRuns(const ReflectanceField& field, const CellBox& 
 
 bool GlassCompletion::describeRun(const ReflectanceField& field, const CellBox& box,
                                   const std::vector<int>& members, Run& run) {
-  const int width = box.width();
   // The line through the cells (principal axis) and how far they stray from it.
   double missed = 0.0;
-  auto cellOf = [&](int i) { return CellIndex(box.min.x() + i % width, box.min.y() + i / width); };
   points_.clear();
   for (int i : members) {
-    points_.push_back(geometry_.cellCenter(cellOf(i)));
-    missed += field.missedBins(cellOf(i));
+    points_.push_back(geometry_.cellCenter(box.cellAt(i)));
+    missed += field.missedBins(box.cellAt(i));
   }
   missed /= static_cast<double>(members.size());
   const LineFit line = fitLine(points_);
@@ -88,13 +86,13 @@ bool GlassCompletion::describeRun(const ReflectanceField& field, const CellBox& 
   run.direction = line.direction;
   run.first = line.first;
   run.last = line.last;
-  const double off_line = line.across;
-  if (off_line > kMaxOffLine * geometry_.resolution() || missed < kMinMeanMissedBins) return false;
+  if (line.across > kMaxOffLine * geometry_.resolution() || missed < kMinMeanMissedBins)
+    return false;
   // Where this glass returns: the bins most of its cells reflect in.
   const int bins = geometry_.thetaBins();
   bin_counts_.assign(bins, 0);
   for (int i : members) {
-    forEachMaskBit(field.reflectiveMask(cellOf(i)), field.maskWords(),
+    forEachMaskBit(field.reflectiveMask(box.cellAt(i)), field.maskWords(),
                    [&](int bin) { ++bin_counts_[bin]; });
   }
   for (int bin = 0; bin < bins; ++bin) {
@@ -111,12 +109,7 @@ void GlassCompletion::extend(const ReflectanceField& field, const CellBox& box, 
   // Structure beside the line by a cell still counts as on it (rasterisation).
   const CellIndex beside =
       std::abs(normal.y()) >= std::abs(normal.x()) ? CellIndex(0, 1) : CellIndex(1, 0);
-  auto index = [&](const CellIndex& cell) {
-    return (cell.y() - box.min.y()) * box.width() + (cell.x() - box.min.x());
-  };
-  auto class_at = [&](const CellIndex& cell) {
-    return box.contains(cell) ? classes[index(cell)] : CellClass::kUnknown;
-  };
+  auto class_at = [&](const CellIndex& cell) { return classInBox(box, classes, cell); };
   // Anything reflective: frames glimpsed from a few directions only are left as motion by
   // Alg. 2 (nothing widely visible anchors them), yet they still mark the line.
   auto structure_at = [&](const CellIndex& cell) {
@@ -168,12 +161,12 @@ void GlassCompletion::extend(const ReflectanceField& field, const CellBox& box, 
       close_gap();  // structure closes the gap before it
       if (structure == 0) framing.clear();
       for (const CellIndex& c : {CellIndex(cell - beside), cell, CellIndex(cell + beside)}) {
-        if (class_at(c) == CellClass::kMotion) framing.push_back(index(c));
+        if (class_at(c) == CellClass::kMotion) framing.push_back(box.indexOf(c));
       }
       return ++structure * resolution <= kMaxStructure;
     }
     structure = 0;
-    const int i = index(cell);
+    const int i = box.indexOf(cell);
     if (classes[i] != CellClass::kFree || !could_be_glass(cell)) return false;
     if (gap.empty()) gap_start = geometry_.cellCenter(cell);
     gap.push_back(i);

@@ -14,16 +14,11 @@ bool PaneShape::lineUp() const {
 
 OffPaneCells drawStaticOffPane(const CellBox& box, std::vector<CellClass>& classes,
                                PaneShape& panes) {
-  auto class_at = [&](const CellIndex& cell) {
-    return box.contains(cell) ? classes[static_cast<size_t>(cell.y() - box.min.y()) * box.width() +
-                                        (cell.x() - box.min.x())]
-                              : CellClass::kUnknown;
-  };
+  auto class_at = [&](const CellIndex& cell) { return classInBox(box, classes, cell); };
   OffPaneCells drawn;
   for (int i = 0; i < static_cast<int>(classes.size()); ++i) {
     if (!isGlassOrMetal(classes[i])) continue;
-    const CellIndex cell(box.min.x() + i % box.width(), box.min.y() + i / box.width());
-    if (panes.onPane(cell, class_at)) continue;
+    if (panes.onPane(box.cellAt(i), class_at)) continue;
     ++(classes[i] == CellClass::kGlass ? drawn.glass : drawn.metal);
     classes[i] = CellClass::kStatic;
     drawn.cells.push_back(i);

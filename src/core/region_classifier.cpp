@@ -32,9 +32,7 @@ MotionRemovalCounts RegionClassifier::classify(const ReflectanceField& field,
   const RollingWindow& window = field.window();
   const CellBox& box = region_.box;
   std::vector<TileIndex> redrawn_tiles;
-  auto tile_of = [&](int i) {
-    return window.tileOf({box.min.x() + i % box.width(), box.min.y() + i / box.width()});
-  };
+  auto tile_of = [&](int i) { return window.tileOf(box.cellAt(i)); };
   for (int i : completion_.complete(field, box, region_.classes)) {
     redrawn_tiles.push_back(tile_of(i));
     ++counts.glass_cells;

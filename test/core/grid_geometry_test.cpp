@@ -1,5 +1,7 @@
 #include "reflectance_field_map/core/grid_geometry.h"
 
+#include "reflectance_field_map/core/cell_class.h"
+
 #include <gtest/gtest.h>
 
 namespace rfm {
@@ -55,6 +57,31 @@ TEST(GridGeometry, IntegerHelpers) {
   EXPECT_EQ(floorDiv(15, 16), 0);
   EXPECT_EQ(positiveMod(-1, 16), 15);
   EXPECT_EQ(positiveMod(32, 16), 0);
+}
+
+// Row-major indices over a box off the origin, x fastest, and back.
+TEST(CellBox, IndexOfAndCellAtAreRowMajorInverses) {
+  const CellBox box{{-3, 5}, {2, 9}};  // 5 x 4 cells
+  EXPECT_EQ(box.indexOf({-3, 5}), 0);
+  EXPECT_EQ(box.indexOf({-2, 5}), 1);
+  EXPECT_EQ(box.indexOf({-3, 6}), 5);
+  EXPECT_EQ(box.indexOf({1, 8}), 19);
+  for (int i = 0; i < box.width() * box.height(); ++i) {
+    const CellIndex cell = box.cellAt(i);
+    EXPECT_TRUE(box.contains(cell)) << i;
+    EXPECT_EQ(box.indexOf(cell), i);
+  }
+}
+
+// A class grid over a box reads unknown outside it.
+TEST(CellBox, ClassInBoxIsUnknownOutside) {
+  const CellBox box{{-1, -1}, {1, 1}};
+  const std::vector<CellClass> classes = {CellClass::kFree, CellClass::kStatic, CellClass::kGlass,
+                                          CellClass::kMotion};
+  EXPECT_EQ(classInBox(box, classes, {0, -1}), CellClass::kStatic);
+  EXPECT_EQ(classInBox(box, classes, {-1, 0}), CellClass::kGlass);
+  EXPECT_EQ(classInBox(box, classes, {1, 0}), CellClass::kUnknown);
+  EXPECT_EQ(classInBox(box, classes, {0, -2}), CellClass::kUnknown);
 }
 
 TEST(Pose2D, ComposeAndTransform) {

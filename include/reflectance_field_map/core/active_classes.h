@@ -20,10 +20,7 @@ struct ClassifiedRegion {
   std::vector<CellClass> classes;
   std::vector<uint8_t> unchanged_tiles;
 
-  CellClass at(const CellIndex& cell) const {
-    return classes[static_cast<size_t>(cell.y() - box.min.y()) * box.width() +
-                   (cell.x() - box.min.x())];
-  }
+  CellClass at(const CellIndex& cell) const { return classes[box.indexOf(cell)]; }
 };
 
 // The classes of the window's cells by storage index, and what the reflection check (Alg. 3)

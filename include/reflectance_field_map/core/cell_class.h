@@ -1,6 +1,9 @@
 #pragma once
 
+#include "reflectance_field_map/core/grid_geometry.h"
+
 #include <cstdint>
+#include <vector>
 
 namespace rfm {
 
@@ -37,5 +40,11 @@ inline int8_t occupancyValue(CellClass c) {
 }
 
 const char* toString(CellClass c);
+
+// The class of `cell` in `classes` (row-major over `box`); unknown outside the box.
+inline CellClass classInBox(const CellBox& box, const std::vector<CellClass>& classes,
+                            const CellIndex& cell) {
+  return box.contains(cell) ? classes[box.indexOf(cell)] : CellClass::kUnknown;
+}
 
 }  // namespace rfm

@@ -104,6 +104,13 @@ struct CellBox {
   bool empty() const { return max.x() <= min.x() || max.y() <= min.y(); }
   int width() const { return max.x() - min.x(); }
   int height() const { return max.y() - min.y(); }
+  // Row-major index (x fastest) of a cell inside the box, and the cell at such an index.
+  int indexOf(const CellIndex& cell) const {
+    return (cell.y() - min.y()) * width() + (cell.x() - min.x());
+  }
+  CellIndex cellAt(int index) const {
+    return {min.x() + index % width(), min.y() + index / width()};
+  }
   CellBox intersect(const CellBox& other) const {
     return {min.cwiseMax(other.min), max.cwiseMin(other.max)};
   }
