@@ -20,8 +20,7 @@ struct Fixture {
     return region;
   }
   static void set(ClassifiedRegion& region, const CellIndex& cell, CellClass c) {
-    region.classes[static_cast<size_t>(cell.y() - region.box.min.y()) * region.box.width() +
-                   (cell.x() - region.box.min.x())] = c;
+    region.classes[region.box.indexOf(cell)] = c;
   }
   RollingWindow window;
   GlobalMap2D map;

@@ -24,8 +24,7 @@ TEST(FrozenReflectivity, KeepsTheMasksOfStaticCellsAsTheyWere) {
   region.classes.assign(static_cast<size_t>(region.box.width()) * region.box.height(),
                         CellClass::kFree);
   auto set = [&](const CellIndex& cell, CellClass c) {
-    region.classes[static_cast<size_t>(cell.y() - region.box.min.y()) * region.box.width() +
-                   (cell.x() - region.box.min.x())] = c;
+    region.classes[region.box.indexOf(cell)] = c;
   };
   set(wall, CellClass::kStatic);
   set(glass, CellClass::kGlass);

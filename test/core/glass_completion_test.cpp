@@ -37,7 +37,7 @@ class FacadeLine : public ::testing::Test {
   }
   size_t index(double x) const {
     const CellIndex cell = field_.geometry().cellOf({x, 0.025});
-    return static_cast<size_t>(cell.y() - box_.min.y()) * box_.width() + (cell.x() - box_.min.x());
+    return static_cast<size_t>(box_.indexOf(cell));
   }
   // Cells of [from_x, to_x) that are glass.
   int glassCells(double from_x, double to_x) const {

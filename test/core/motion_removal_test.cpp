@@ -43,8 +43,7 @@ struct DirectField {
     const CellBox box = field.activeBox();
     remover.classify(
         field, history, box, [](const CellIndex&) { return CellClass::kUnknown; }, classes);
-    return classes[static_cast<size_t>(cell.y() - box.min.y()) * box.width() + cell.x() -
-                   box.min.x()];
+    return classes[box.indexOf(cell)];
   }
   // classify() with one anchor rule set to `value` on top of `base`.
   CellClass classifyWith(const CellIndex& cell, int AnchorRules::*rule, int value,
@@ -321,10 +320,8 @@ TEST(MotionRemover, KnownObstaclesOutsideTheBoxSeedComponents) {
         return c.x() == box.max.x() ? CellClass::kStatic : CellClass::kUnknown;
       },
       classes);
-  const size_t i =
-      static_cast<size_t>(0 - box.min.y()) * box.width() + (border.x() - 1 - box.min.x());
-  EXPECT_EQ(classes[i], CellClass::kGlass);
-  EXPECT_EQ(classes[i + 1], CellClass::kGlass);
+  EXPECT_EQ(classes[box.indexOf(border - CellIndex(1, 0))], CellClass::kGlass);
+  EXPECT_EQ(classes[box.indexOf(border)], CellClass::kGlass);
   // Without the seed the same evidence is motion.
   EXPECT_EQ(f.classify(border), CellClass::kMotion);
 }
