@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <optional>
 #include <utility>
 
@@ -36,6 +37,47 @@ void redo(const BinUpdate& update, ReflectanceField& field) {
     field.applyHitAt(update.slot, update.bin);
   } else {
     field.applyMissAt(update.slot, update.bin);
+  }
+}
+
+// Turns the field from `before` (one replay's updates) to `after` (the other's): updates only in
+// `before` are undone, those only in `after` applied, and a slot whose bin took a hit in one and
+// a miss in the other gets both. Both lists come from ScanInserter::collectUpdates: grouped by
+// bin in ascending order, a slot at most once per bin. `marks` (one per window slot, all zero)
+// pairs them bin by bin without sorting, and is left all zero.
+void applyDifference(const std::vector<BinUpdate>& before, const std::vector<BinUpdate>& after,
+                     std::vector<uint8_t>& marks, ReflectanceField& field) {
+  constexpr uint8_t kMiss = 1, kHit = 2, kPaired = 3;
+  size_t i = 0, j = 0;
+  while (i < before.size() || j < after.size()) {
+    const int bin = std::min(i < before.size() ? before[i].bin : INT16_MAX,
+                             j < after.size() ? after[j].bin : INT16_MAX);
+    size_t i_end = i, j_end = j;
+    while (i_end < before.size() && before[i_end].bin == bin)
+      ++i_end;
+    while (j_end < after.size() && after[j_end].bin == bin)
+      ++j_end;
+    for (size_t k = i; k < i_end; ++k)
+      marks[before[k].slot] = before[k].hit ? kHit : kMiss;
+    for (size_t k = j; k < j_end; ++k) {
+      uint8_t& mark = marks[after[k].slot];
+      if (mark == 0) {
+        redo(after[k], field);
+      } else if ((mark == kHit) != after[k].hit) {
+        undo({after[k].slot, after[k].bin, mark == kHit}, field);
+        redo(after[k], field);
+      }
+      mark = kPaired;
+    }
+    for (size_t k = i; k < i_end; ++k) {
+      uint8_t& mark = marks[before[k].slot];
+      if (mark != kPaired) undo(before[k], field);
+      mark = 0;
+    }
+    for (size_t k = j; k < j_end; ++k)
+      marks[after[k].slot] = 0;
+    i = i_end;
+    j = j_end;
   }
 }
 
@@ -230,6 +272,8 @@ void ReflectionRemover::revertBehindGlass(const CellBox& new_glass, ScanInserter
   std::vector<std::pair<size_t, Ray>> truncated;  // index in the scan, ray cut at the glass
   std::vector<uint8_t> bin_changed(geometry.thetaBins());
   std::vector<BeamRange> beam_ranges;
+  std::vector<uint8_t> slot_marks(static_cast<size_t>(field.window().sizeCells()) *
+                                  field.window().sizeCells());
   auto by_beam = [](const Ray& ray, uint32_t beam) { return ray.beam < beam; };
   for (KeptScan& kept : buffer_) {
     truncated.clear();
@@ -263,21 +307,7 @@ void ReflectionRemover::revertBehindGlass(const CellBox& new_glass, ScanInserter
     }
     inserter.collectUpdates(old_rays, field, before);
     inserter.collectUpdates(new_rays, field, after);
-    size_t i = 0, j = 0;
-    while (i < before.size() || j < after.size()) {
-      if (j == after.size() || (i < before.size() && before[i] < after[j])) {
-        undo(before[i++], field);
-      } else if (i == before.size() || after[j] < before[i]) {
-        redo(after[j++], field);
-      } else {
-        if (before[i].hit != after[j].hit) {
-          undo(before[i], field);
-          redo(after[j], field);
-        }
-        ++i;
-        ++j;
-      }
-    }
+    applyDifference(before, after, slot_marks, field);
     for (const auto& changed : truncated)
       kept.rays[changed.first] = changed.second;
   }

@@ -171,9 +171,9 @@ void ScanInserter::collectUpdates(const std::vector<Ray>& rays, const Reflectanc
                                   std::vector<BinUpdate>& updates) {
   UpdateRecorder recorder{updates};
   updates.clear();
+  // On the caller alone, so the bins come in ascending order.
   run(
       rays, field, [&](int) -> UpdateRecorder& { return recorder; }, /*parallel=*/false);
-  std::sort(updates.begin(), updates.end());
 }
 
 }  // namespace rfm

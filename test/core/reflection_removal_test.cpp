@@ -6,6 +6,7 @@
 #include "reflectance_field_map/core/ray_traversal.h"
 
 #include "scenario.h"
+#include "test_fields.h"
 
 #include <gtest/gtest.h>
 
@@ -251,6 +252,78 @@ TEST(ReflectionRemoval, GlassNeverFacedOnAFacadeLineIsCompleted) {
 }
 
 // Online: the live mapper labels rays through glass it already knows as reflections at insertion.
+// A kept scan that crossed a pane classified afterwards loses exactly its evidence beyond the
+// pane: the field after revertBehindGlass holds what the scan would have left cut at the pane.
+// The pane ends inside some theta bins' fans, so their cells beyond it keep the misses of the
+// beams that went past it (the updates are de-duplicated per bin).
+TEST(ReflectionRemoval, RevertBehindNewGlassLeavesWhatTheScanCutAtItWouldHave) {
+  ReflectanceField field = testing::centredField(6.0);
+  ReflectanceField reference = testing::centredField(6.0);
+  const GridGeometry& geometry = field.geometry();
+  GlobalMap2D map;
+  ActiveClasses classes(field.window(), map, 0);
+  const ReflectionRemovalOptions options;
+  ReflectionRemover remover(options, field, classes);
+  ScanInserter inserter;
+
+  // Beams every 0.25 deg over +-35 deg from near the origin, every other one to x = 4 m and the
+  // others on to 4.6 m: a beam let through beside the pane crosses the cell where its neighbour,
+  // cut at the pane, took a hit, so that cell's bin turns from a hit into a miss.
+  const Eigen::Vector2d origin(0.02, 0.03);
+  const double first_angle = -0.611, increment = 0.0043633;
+  std::vector<Ray> rays;
+  for (uint32_t k = 0; k < 281; ++k) {
+    const double angle = first_angle + k * increment;
+    const double wall_x = k % 2 == 0 ? 3.98 : 4.6;
+    Ray ray;
+    ray.origin = origin;
+    ray.end =
+        origin + (wall_x / std::cos(angle)) * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+    ray.angle = wrapTwoPi(angle);
+    ray.hit = true;
+    ray.beam = k;
+    rays.push_back(ray);
+  }
+  inserter.insert(rays, field);
+  remover.keep(rays, origin, first_angle, increment);
+
+  // Panes at x = 2 m between y = -1.0 and 0.43 m, 0.3 m wide with 0.15 m gaps, found glass after
+  // the scan went in: many theta bins hold beams cut at a pane and beams let through.
+  ClassifiedRegion region;
+  region.box = field.window().box();
+  region.classes.assign(static_cast<size_t>(region.box.width()) * region.box.height(),
+                        CellClass::kFree);
+  for (double y = -1.0; y <= 0.43; y += 0.5 * geometry.resolution()) {
+    if (std::fmod(y + 1.0, 0.45) > 0.3) continue;
+    region.classes[region.box.indexOf(geometry.cellOf({2.0, y}))] = CellClass::kGlass;
+  }
+  const CellBox new_glass = classes.replace(region, nullptr);
+  ASSERT_FALSE(new_glass.empty());
+  remover.revertBehindGlass(new_glass, inserter, field);
+
+  std::vector<Ray> cut_rays = rays;
+  std::vector<RayLabel> labels(rays.size(), RayLabel::kNoReturn);
+  const size_t cut = remover.cut(cut_rays, labels, nullptr);
+  EXPECT_GT(cut, 50u);
+  EXPECT_LT(cut, rays.size() - 50);
+  inserter.insert(cut_rays, reference);
+
+  size_t differing = 0, changed = 0;
+  const CellBox box = field.window().box();
+  for (int y = box.min.y(); y < box.max.y(); ++y) {
+    for (int x = box.min.x(); x < box.max.x(); ++x) {
+      const int slot = field.window().storageIndex({x, y});
+      differing += field.reflectiveBinsAt(slot) != reference.reflectiveBinsAt(slot);
+      for (int bin = 0; bin < geometry.thetaBins(); ++bin) {
+        differing += field.value({x, y}, bin) != reference.value({x, y}, bin);
+        changed += x > geometry.cellOf({2.1, 0.0}).x() && reference.value({x, y}, bin) != 0;
+      }
+    }
+  }
+  EXPECT_EQ(differing, 0u);
+  EXPECT_GT(changed, 100u);  // beyond the pane, the beams that passed it left their evidence
+}
+
 TEST(ReflectionRemoval, OnlineScansThroughKnownGlassAreReflections) {
   SyntheticWorld world = paneWithWallBehindWorld();
   Mapper mapper(testing::scenarioOptions());

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <set>
@@ -176,6 +177,17 @@ TEST(ScanInserter, UpdatesMatchAlgorithmOneRayByRayOnRandomScans) {
       rays.push_back(ray);
     }
     inserter.collectUpdates(rays, field, swept);
+    // Grouped by bin in ascending order, a slot once per bin (what revertBehindGlass pairs by).
+    for (size_t i = 1; i < swept.size(); ++i) {
+      ASSERT_LE(swept[i - 1].bin, swept[i].bin) << "trial " << trial << ", update " << i;
+    }
+    std::sort(swept.begin(), swept.end());
+    ASSERT_EQ(std::adjacent_find(swept.begin(), swept.end(),
+                                 [](const BinUpdate& a, const BinUpdate& b) {
+                                   return a.slot == b.slot && a.bin == b.bin;
+                                 }),
+              swept.end())
+        << "trial " << trial;
     ASSERT_EQ(swept, referenceUpdates(rays, field)) << "trial " << trial;
   }
 }

@@ -49,7 +49,8 @@ class ScanInserter {
   // statistics report them, and counting every cell visit costs the batch 1 % of its instructions.
   void insertScans(const std::vector<std::vector<Ray>>& scans, size_t count,
                    ReflectanceField& field);
-  // The updates insert() would apply for `rays`, sorted by (slot, bin); the field is unchanged.
+  // The updates insert() would apply for `rays`, grouped by theta bin in ascending order (a slot
+  // at most once per bin, in the sweep's order within it); the field is unchanged.
   void collectUpdates(const std::vector<Ray>& rays, const ReflectanceField& field,
                       std::vector<BinUpdate>& updates);
 
