@@ -266,6 +266,17 @@ TEST(ZeroedHugeArray, OrdinaryPagesAreResidentOnlyWhereWritten) {
   const ZeroedHugeArray<int8_t> small(100, PageKind::kOrdinary);
   EXPECT_EQ(ZeroedHugeArray<int8_t>(small).pages(), PageKind::kOrdinary);  // copies keep it
 }
+
+// prefault() brings in every page at once (a live mapper's, before its first scan) and leaves
+// the zeros as they were.
+TEST(ZeroedHugeArray, PrefaultMakesEveryPageResidentAndKeepsTheZeros) {
+  constexpr size_t kHuge = ZeroedHugeArray<int8_t>::kHugePageBytes;
+  ZeroedHugeArray<int8_t> array(8 * kHuge + 100, PageKind::kOrdinary);
+  ASSERT_LE(residentBytes(array.data(), array.size()), size_t{64} << 10);
+  array.prefault();
+  EXPECT_GE(residentBytes(array.data(), array.size()), array.size());
+  EXPECT_EQ(std::count(array.begin(), array.end(), 0), static_cast<long>(array.size()));
+}
 #endif
 
 // A robot-centred window keeps huge pages (fewer page translations for its rays); a window of

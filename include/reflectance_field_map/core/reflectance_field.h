@@ -233,8 +233,15 @@ class ReflectanceField {
   size_t archivedTiles() const { return archive_.tileCount(); }
   const TileArchive& archive() const { return archive_; }
 
-  // Forgets everything (active and archived).
+  // Forgets everything (active and archived). The slices' and masks' pages are fresh: they fault
+  // in where insertions reach them, unless prefault() brings them in first.
   void clear();
+  // Faults the slices' and masks' pages in now (a live mapper: its first scans must not wait
+  // for them).
+  void prefault() {
+    bins_.prefault();
+    reflective_masks_.prefault();
+  }
 
   // Binary state (window origin, active bins, archive) for save/load.
   void write(std::ostream& out) const;

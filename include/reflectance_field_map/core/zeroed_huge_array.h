@@ -57,6 +57,15 @@ class ZeroedHugeArray {
   }
   ~ZeroedHugeArray() { std::free(data_); }
 
+  // Faults every page in now, one write a page, for a caller whose first touches must not wait
+  // for them (a live mapper's first scans).
+  void prefault() {
+    constexpr size_t kPageBytes = 4096;  // the smallest page: a write to each reaches every page
+    auto* bytes = reinterpret_cast<volatile unsigned char*>(data_);
+    for (size_t offset = 0; offset < size_ * sizeof(T); offset += kPageBytes)
+      bytes[offset] = 0;
+  }
+
   size_t size() const { return size_; }
   PageKind pages() const { return pages_; }
   T* data() { return data_; }
