@@ -251,11 +251,10 @@ TEST(ReflectionRemoval, GlassNeverFacedOnAFacadeLineIsCompleted) {
   EXPECT_EQ(glass_along(6.6, 8.9), 0.0);
 }
 
-// Online: the live mapper labels rays through glass it already knows as reflections at insertion.
-// A kept scan that crossed a pane classified afterwards loses exactly its evidence beyond the
-// pane: the field after revertBehindGlass holds what the scan would have left cut at the pane.
-// The pane ends inside some theta bins' fans, so their cells beyond it keep the misses of the
-// beams that went past it (the updates are de-duplicated per bin).
+// A kept scan that crossed panes classified afterwards loses exactly its evidence beyond them:
+// the field after revertBehindGlass holds what the scan would have left cut at the panes. The
+// panes end inside some theta bins' fans, so their cells beyond keep the misses of the beams that
+// went past (the updates are de-duplicated per bin).
 TEST(ReflectionRemoval, RevertBehindNewGlassLeavesWhatTheScanCutAtItWouldHave) {
   ReflectanceField field = testing::centredField(6.0);
   ReflectanceField reference = testing::centredField(6.0);
@@ -324,6 +323,7 @@ TEST(ReflectionRemoval, RevertBehindNewGlassLeavesWhatTheScanCutAtItWouldHave) {
   EXPECT_GT(changed, 100u);  // beyond the pane, the beams that passed it left their evidence
 }
 
+// Online: the live mapper labels rays through glass it already knows as reflections at insertion.
 TEST(ReflectionRemoval, OnlineScansThroughKnownGlassAreReflections) {
   SyntheticWorld world = paneWithWallBehindWorld();
   Mapper mapper(testing::scenarioOptions());

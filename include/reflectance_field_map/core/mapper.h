@@ -157,7 +157,7 @@ class Mapper {
 
   void reset();
   // Faults the field's memory in now. A new or reset mapper's field takes its pages as the first
-  // scans reach them, which holds a live mapper's first scan for a fifth of a second on the
+  // scans reach them, which can hold a live mapper's first scan for a fifth of a second on the
   // shared VM: a live caller calls this once it has created or reset the mapper.
   void prefault() { field_.prefault(); }
   void save(std::ostream& out) const;
