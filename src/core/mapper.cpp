@@ -13,6 +13,7 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <utility>
 
 namespace rfm {
 namespace {
@@ -74,6 +75,7 @@ struct Mapper::Impl {
   std::vector<Ray> rays;
   std::vector<std::vector<Ray>> pending;                 // addScans: prepared, not yet inserted
   std::chrono::steady_clock::time_point last_scan_done;  // addScan's last return
+  CellBox pending_revert;  // new glass whose revert (revertBehindNewGlass) has not run yet
 };
 
 Mapper::Mapper(const MapperOptions& options, const MapperLayout& layout)
@@ -105,6 +107,7 @@ ScanUpdate Mapper::addScan(const TimedScan& scan) {
 }
 
 ScanUpdate Mapper::addScanSharing(const TimedScan& scan, bool share) {
+  revertBehindNewGlass();
   runDueTick();
   ScanUpdate update = placeScan(scan);
   if (!update.error.empty()) return update;
@@ -135,6 +138,7 @@ void Mapper::addScans(ScanIterator first, ScanIterator last) {
 }
 
 void Mapper::addScans(const std::vector<const TimedScan*>& scans) {
+  revertBehindNewGlass();
   runDueTick();
   if (impl_->reflections.checks() && !impl_->reflections.frozen()) {
     // The glass check reads the field as the scans before left it: one by one.
@@ -244,6 +248,15 @@ void Mapper::finishScan(const TimedScan& scan, const std::vector<Ray>& rays,
 
 MotionRemovalSummary Mapper::removeMotion() {
   const auto start = std::chrono::steady_clock::now();
+  MotionRemovalSummary summary = classifyActiveRegion();
+  revertBehindNewGlass();
+  summary.elapsed_ms = millisecondsSince(start);
+  return summary;
+}
+
+MotionRemovalSummary Mapper::classifyActiveRegion() {
+  const auto start = std::chrono::steady_clock::now();
+  revertBehindNewGlass();     // the last pass's, if its caller left it
   runDueTick();               // the anchors as the last scan left them
   impl_->reflections.thaw();  // the glass check reads the field again
   MotionRemovalSummary summary;
@@ -254,7 +267,7 @@ MotionRemovalSummary Mapper::removeMotion() {
   classifier.writeTo(field_.window(), map_);
   summary.new_glass = !new_glass.empty();
   if (summary.new_glass && options_.reflection_removal.reflection_removal_enabled) {
-    impl_->reflections.revertBehindGlass(new_glass, impl_->inserter, field_);
+    impl_->pending_revert = new_glass;
   }
   summary.elapsed_ms = millisecondsSince(start);
   MapperStats& stats = impl_->stats;
@@ -264,6 +277,14 @@ MotionRemovalSummary Mapper::removeMotion() {
   stats.glass_cells = summary.glass_cells + summary.metal_cells;
   stats.motion_cells = summary.motion_cells;
   return summary;
+}
+
+void Mapper::revertBehindNewGlass() {
+  if (impl_->pending_revert.empty()) return;
+  const auto start = std::chrono::steady_clock::now();
+  const CellBox new_glass = std::exchange(impl_->pending_revert, CellBox());
+  impl_->reflections.revertBehindGlass(new_glass, impl_->inserter, field_);
+  impl_->stats.last_motion_removal_ms += millisecondsSince(start);
 }
 
 std::vector<RayLabel> Mapper::labelScan(const TimedScan& scan, bool final_map) const {
@@ -304,6 +325,7 @@ std::vector<std::vector<RayLabel>> Mapper::labelScans(ScanIterator first, ScanIt
 }
 
 void Mapper::restartEvidence() {
+  revertBehindNewGlass();  // the frozen directions are the reverted field's
   impl_->reflections.freeze();
   // Classes live on in the global map; the next scan re-places the window and restores them.
   field_.clear();
@@ -315,6 +337,7 @@ void Mapper::restartEvidence() {
 void Mapper::forgetDerivedState() {
   impl_->reflections.thaw();
   impl_->reflections.forgetScans();
+  impl_->pending_revert = CellBox();  // the scans it would re-process are forgotten
   impl_->anchor_history.clear();
   impl_->tick_due = false;
   impl_->classes.clear();

@@ -499,15 +499,14 @@ void MapperRos::motionRemovalTimer(const ros::WallTimerEvent&) {
 
 void MapperRos::removeMotionAndPublishLocked() {
   const auto start = std::chrono::steady_clock::now();
-  runMotionRemovalLocked();
-  if (publishMapUpdateLocked()) pass_to_update_.add(elapsedMs(start));
-}
-
-void MapperRos::runMotionRemovalLocked() {
-  mapper_->removeMotion();
+  mapper_->classifyActiveRegion();
   scans_since_motion_removal_ = 0;
   map_changed_ = true;
   markers_changed_ = true;
+  if (publishMapUpdateLocked()) pass_to_update_.add(elapsedMs(start));
+  // The classes are out: Alg. 3's re-processing of the buffered scans behind new glass changes
+  // only the evidence the next scans meet.
+  mapper_->revertBehindNewGlass();
 }
 
 void MapperRos::mapTimer(const ros::WallTimerEvent&) {

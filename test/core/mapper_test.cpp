@@ -79,6 +79,38 @@ TEST(Mapper, SaveLoadRoundTripsTheMapAndTheField) {
   EXPECT_FALSE(restored.load(garbage));
 }
 
+// removeMotion() in its two steps leaves the mapper as removeMotion() does, whether the caller
+// runs the revert behind new glass itself or leaves it to the next scan: the same labels for
+// every scan and the same state saved.
+TEST(Mapper, APassInTwoStepsGivesWhatRemoveMotionGives) {
+  const SyntheticWorld world = testing::paneWithWallBehindWorld();
+  const std::vector<testing::ScenarioStep> steps = testing::driveAlongThePane();
+  Mapper whole(testing::scenarioOptions()), split(testing::scenarioOptions()),
+      left(testing::scenarioOptions());
+  int passes_with_new_glass = 0;
+  for (size_t i = 0; i < steps.size(); ++i) {
+    const TimedScan scan = world.timedScan(steps[i].robot, 0.025 * i);
+    const std::vector<RayLabel> labels = whole.labelAddedScan(scan, whole.addScan(scan));
+    ASSERT_EQ(split.labelAddedScan(scan, split.addScan(scan)), labels) << "scan " << i;
+    ASSERT_EQ(left.labelAddedScan(scan, left.addScan(scan)), labels) << "scan " << i;
+    if ((i + 1) % 20 != 0) continue;
+    passes_with_new_glass += whole.removeMotion().new_glass;
+    split.classifyActiveRegion();
+    split.revertBehindNewGlass();
+    left.classifyActiveRegion();  // its revert runs when the next scan comes
+  }
+  left.revertBehindNewGlass();
+  EXPECT_GT(passes_with_new_glass, 0);
+  auto saved = [](const Mapper& mapper) {
+    std::ostringstream out;
+    mapper.save(out);
+    return out.str();
+  };
+  const std::string expected = saved(whole);
+  EXPECT_TRUE(saved(split) == expected);
+  EXPECT_TRUE(saved(left) == expected);
+}
+
 TEST(Mapper, ResetForgetsEverything) {
   SyntheticWorld world = roomWithPane();
   Mapper mapper(testing::scenarioOptions());

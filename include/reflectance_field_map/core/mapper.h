@@ -119,6 +119,14 @@ class Mapper {
   // classes into the global map. When new glass appears, the buffered scans' evidence beyond it
   // is taken back (online Alg. 3).
   MotionRemovalSummary removeMotion();
+  // removeMotion() in its two steps, for a caller that publishes the map between them: after
+  // classifyActiveRegion() the classes and the global map are final (elapsed_ms is this step's);
+  // revertBehindNewGlass() then takes back the evidence beyond new glass, a pass's longest part
+  // when it finds some. A revert still pending when the next scan, pass or evidence restart
+  // comes runs first, so the field sees the same updates in the same order either way (save()
+  // writes the field as it is).
+  MotionRemovalSummary classifyActiveRegion();
+  void revertBehindNewGlass();
 
   // Classes of the explored map (global, survives the active region moving on).
   const GlobalMap2D& map() const { return map_; }

@@ -146,9 +146,9 @@ class MapperRos {
                 std::atomic<uint64_t>& reason_total);
 
   // With mapper_mutex_ held.
-  // A motion-removal pass and the map update carrying its changes (pass_to_update_).
+  // A motion-removal pass and the map update carrying its changes (pass_to_update_), sent
+  // before the pass's revert behind new glass.
   void removeMotionAndPublishLocked();
-  void runMotionRemovalLocked();
   double motionRemovalPeriod() const;  // s
   void publishFullMapLocked();
   // The changed window to /rfm/map_updates, or the full map when its bounds grew; false when
