@@ -28,8 +28,8 @@ constexpr char kMotionMarkersTopic[] = "/rfm/motion_markers";
 constexpr char kStatsTopic[] = "/rfm/stats";
 // Scans a topic's subscriber holds while the mapper is busy (a motion-removal pass that finds new
 // glass re-processes its buffered scans): 10 s of a 40 Hz lidar, 1 s of it in a bag replayed at
-// 10x (100 lost 20 scans of 6401 there), at most 4 MB of 1081-beam scans. Scans beyond it are
-// dropped by roscpp and counted from the gaps in header.seq.
+// 10x (100 loses 20-70 of its 6401 scans there), at most 4 MB of 1081-beam scans. Scans beyond it
+// are dropped by roscpp and counted from the gaps in header.seq.
 constexpr uint32_t kSubscriberQueue = 400;
 // Filtered scans and labels held for a subscriber that reads late (a busy planner, a loaded
 // machine): 1.25 s of two 40 Hz lidars, where 10 would lose them after an eighth of a second.
