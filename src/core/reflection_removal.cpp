@@ -272,8 +272,7 @@ void ReflectionRemover::revertBehindGlass(const CellBox& new_glass, ScanInserter
   std::vector<std::pair<size_t, Ray>> truncated;  // index in the scan, ray cut at the glass
   std::vector<uint8_t> bin_changed(geometry.thetaBins());
   std::vector<BeamRange> beam_ranges;
-  std::vector<uint8_t> slot_marks(static_cast<size_t>(field.window().sizeCells()) *
-                                  field.window().sizeCells());
+  std::vector<uint8_t> slot_marks;  // applyDifference's, sized once a scan has a ray to change
   auto by_beam = [](const Ray& ray, uint32_t beam) { return ray.beam < beam; };
   for (KeptScan& kept : buffer_) {
     truncated.clear();
@@ -307,6 +306,8 @@ void ReflectionRemover::revertBehindGlass(const CellBox& new_glass, ScanInserter
     }
     inserter.collectUpdates(old_rays, field, before);
     inserter.collectUpdates(new_rays, field, after);
+    const int side = field.window().sizeCells();
+    if (slot_marks.empty()) slot_marks.assign(static_cast<size_t>(side) * side, 0);
     applyDifference(before, after, slot_marks, field);
     for (const auto& changed : truncated)
       kept.rays[changed.first] = changed.second;
