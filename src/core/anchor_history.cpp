@@ -61,12 +61,14 @@ CellAnchoring AnchorRules::judge(const ReflectanceField& field, const AnchorHist
   const bool abandoned = (confirmed || solid) && departure_vacant_ticks > 0 &&
                          history.abandonedTicksAt(slot) >= departure_vacant_ticks;
   CellAnchoring anchoring;
-  const bool solid_anchor = solid && !departed && !abandoned && !history.arrivedAt(slot);
+  const bool still_there = solid && !departed && !abandoned;
+  const bool solid_anchor = still_there && !history.arrivedAt(slot);
   anchoring.anchor = (widely_visible && !departed) || (solid_anchor && solid_anchor_min_bins > 0 &&
                                                        reflective_bins >= solid_anchor_min_bins);
   anchoring.persistent = confirmed && !departed && !abandoned;
   anchoring.solid = solid;
   anchoring.solid_anchor = solid_anchor;
+  anchoring.arrived = still_there && history.arrivedAt(slot);
   return anchoring;
 }
 

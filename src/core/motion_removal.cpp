@@ -123,8 +123,9 @@ void MotionRemover::unite(uint32_t a, uint32_t b) {
   anchored_[a] |= anchored_[b];
   runs_in_[a] += runs_in_[b];
   solid_runs_[a] += solid_runs_[b];
+  arrived_runs_[a] += arrived_runs_[b];
+  persistent_[a] |= persistent_[b];
   if (anchors_.tracksExtents()) {
-    persistent_[a] |= persistent_[b];
     Extent& e = extent_[a];
     const Extent& f = extent_[b];
     e = {std::min(e.min_x, f.min_x), std::min(e.min_y, f.min_y), std::max(e.max_x, f.max_x),
@@ -198,10 +199,11 @@ void MotionRemover::joinBand(const ReflectanceField& field, const AnchorHistory&
         const uint32_t root = find(r);
         ++runs_in_[root];
         solid_runs_[root] += anchoring.solid_anchor;
+        arrived_runs_[root] += anchoring.arrived;
       }
-      bool seeded = anchor || (persistent && anchors_.persistence_min_cells == 0);
-      // The rules with a minimum length anchor once the component proves long enough.
-      if (anchors_.tracksExtents() && persistent) {
+      bool seeded = anchor;
+      // Long-confirmed cells anchor once their whole component is known (heldByPersistence).
+      if (persistent) {
         for (uint32_t r = first; r < last; ++r)
           persistent_[find(r)] = 1;
       }
@@ -249,6 +251,15 @@ bool MotionRemover::spansAtLeast(uint32_t root, int min_cells) const {
   return std::max(e.max_x - e.min_x, e.max_y - e.min_y) + 1 >= min_cells;
 }
 
+bool MotionRemover::heldByPersistence(uint32_t root) const {
+  // A person who walked in and stood still is confirmed for as long as they stand. A component
+  // with as large a share of its runs in solid cells that arrived as makes one structure
+  // (solid_min_share) arrived: its confirmed cells do not hold it.
+  const bool arrived =
+      arrived_runs_[root] > 0 && arrived_runs_[root] >= anchors_.solid_min_share * runs_in_[root];
+  return persistent_[root] && !arrived && spansAtLeast(root, anchors_.persistence_min_cells);
+}
+
 void MotionRemover::classifyBand(const ReflectanceField& field, const CellBox& box,
                                  const Band& band, std::vector<CellClass>& classes,
                                  MotionRemovalCounts& counts, std::vector<size_t>& glass) const {
@@ -284,8 +295,7 @@ void MotionRemover::classifyBand(const ReflectanceField& field, const CellBox& b
             reflective += runs_[r].length;
             widest = std::max<int>(widest, runs_[r].length);
             const uint32_t root = root_[r];
-            anchored |= anchored_[root] != 0 ||
-                        (persistent_[root] && spansAtLeast(root, anchors_.persistence_min_cells)) ||
+            anchored |= anchored_[root] != 0 || heldByPersistence(root) ||
                         (anchors_.solid_max_missed_ratio > 0.0 &&
                          solid_runs_[root] >= anchors_.solid_min_share * runs_in_[root]);
           }
@@ -347,6 +357,7 @@ MotionRemovalCounts MotionRemover::classify(
   persistent_.assign(runs_.size(), 0);
   runs_in_.assign(runs_.size(), 0);
   solid_runs_.assign(runs_.size(), 0);
+  arrived_runs_.assign(runs_.size(), 0);
   extent_.resize(anchors_.tracksExtents() ? runs_.size() : 0);
   forEachBand([&](int p) {
     std::copy(band_runs_[p].begin(), band_runs_[p].end(), runs_.begin() + band_offset[p]);

@@ -286,6 +286,39 @@ TEST(MotionRemover, CellsThatArrivedDoNotMakeStructure) {
   EXPECT_EQ(f.classify({8, 0}, anchors), CellClass::kMotion);
 }
 
+// A person who walked in and stood still is hit throughout their stay, so their cells are
+// confirmed: they did not stand long enough to be structure, they arrived. Long-confirmed cells
+// do not anchor a component with the solid share's worth of its runs in arrived solid cells.
+TEST(MotionRemover, ConfirmedCellsThatArrivedAnchorNothing) {
+  DirectField f;
+  constexpr int kConfirmed = 3;
+  for (int y = -10; y < 10; ++y) {
+    for (int i = 0; i < 5; ++i)
+      f.field.applyMiss({8, y}, 0);  // seen free ...
+  }
+  f.tick(/*remembered_min_bins=*/1000, kConfirmed);
+  for (int tick = 0; tick <= kConfirmed; ++tick) {
+    stroke(f, 8, -10, 10, [](int) { return false; });   // ... then hit at every tick
+    stroke(f, -8, -10, 10, [](int) { return false; });  // never seen free
+    f.tick(1000, kConfirmed);
+  }
+  ASSERT_TRUE(f.history.arrivedAt(f.field.window().storageIndex({8, 0})));
+  ASSERT_GE(f.history.confirmedTicksAt(f.field.window().storageIndex({8, 0})), kConfirmed);
+  AnchorRules anchors;
+  anchors.persistence_ticks = kConfirmed;
+  // Without the solid rules, arrival is not judged: the confirmed cells anchor both strokes.
+  EXPECT_EQ(f.classify({8, 0}, anchors), CellClass::kGlass);
+  EXPECT_EQ(f.classify({-8, 0}, anchors), CellClass::kGlass);
+  anchors.solid_max_missed_ratio = 2.0;
+  EXPECT_EQ(f.classify({8, 0}, anchors), CellClass::kMotion);
+  EXPECT_EQ(f.classify({-8, 0}, anchors), CellClass::kStatic);
+  // Not confirmed long enough, the stroke that did not arrive is still structure (its solid
+  // share), and the one that did is motion as before.
+  anchors.persistence_ticks = kConfirmed + 5;
+  EXPECT_EQ(f.classify({8, 0}, anchors), CellClass::kMotion);
+  EXPECT_EQ(f.classify({-8, 0}, anchors), CellClass::kStatic);
+}
+
 // Glass has open space on both sides: a would-be glass cell against static structure is that
 // structure's surface, blurred.
 TEST(MotionRemover, GlassAgainstStructureIsStatic) {

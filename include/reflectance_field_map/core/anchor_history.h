@@ -25,6 +25,8 @@ struct CellAnchoring {
   bool persistent = false;  // confirmed for long and still there (persistence_min_cells)
   bool solid = false;       // missed in few bins for its reflective ones (solid_max_missed_ratio)
   bool solid_anchor = false;  // solid, and neither departed nor arrived: counts towards the share
+  bool arrived = false;       // solid, not departed, and arrived (AnchorHistory::arrivedAt): counts
+                              // against the persistent cells of its component
 };
 
 // The rules in the units the history counts in (ticks of the persistence clock, cells, theta

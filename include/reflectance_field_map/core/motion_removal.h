@@ -84,6 +84,9 @@ class MotionRemover {
                                    MotionRemovalCounts& counts) const;
   // Whether the component of `root` spans at least `min_cells` (0: any size).
   bool spansAtLeast(uint32_t root, int min_cells) const;
+  // Whether the long-confirmed cells of the component of `root` anchor it: it is long enough
+  // (persistence_min_cells) and less than solid_min_share of its runs lie in arrived solid cells.
+  bool heldByPersistence(uint32_t root) const;
 
   uint32_t find(uint32_t node);
   void unite(uint32_t a, uint32_t b);
@@ -104,10 +107,11 @@ class MotionRemover {
   std::vector<int> slots_;                   // storage slot of each box cell
   std::vector<uint32_t> parent_;
   std::vector<uint8_t> rank_;
-  std::vector<uint8_t> anchored_;     // per root: touches a widely visible or known static cell
-  std::vector<uint8_t> persistent_;   // per root: holds a long-confirmed cell
-  std::vector<uint32_t> runs_in_;     // per root: its runs
-  std::vector<uint32_t> solid_runs_;  // per root: its runs in solid cells that anchor
+  std::vector<uint8_t> anchored_;       // per root: touches a widely visible or known static cell
+  std::vector<uint8_t> persistent_;     // per root: holds a long-confirmed cell
+  std::vector<uint32_t> runs_in_;       // per root: its runs
+  std::vector<uint32_t> solid_runs_;    // per root: its runs in solid cells that anchor
+  std::vector<uint32_t> arrived_runs_;  // per root: its runs in solid cells that arrived
   struct Extent {
     int16_t min_x, min_y, max_x, max_y;  // box-local cells
   };

@@ -102,9 +102,10 @@ struct MotionRemovalOptions {
   bool motion_removal_enabled = true;
   double motion_removal_rate = 2.0;  // Hz, passes on the scans' clock (live)
   // Cells reflective and hit again throughout this long anchor their component like widely
-  // visible ones: a sensor that does not move sees walls from one direction only. A person
-  // standing this long counts as structure until the misses after they leave clear the cells.
-  // Measured in ticks of the motion-removal rate, on the scans' clock.
+  // visible ones: a sensor that does not move sees walls from one direction only. Not in a
+  // component with solid_min_share of its runs in solid cells that arrived where the field had
+  // seen free space: a person who walked in and stood this long is confirmed too. Measured in
+  // ticks of the motion-removal rate, on the scans' clock.
   double persistence_time = 12.0;  // s, 0 disables
   // Such cells anchor only components at least this long (m, longer bounding-box side): a
   // person standing still is smaller than most walls. 0 (default): any size, because the end of
