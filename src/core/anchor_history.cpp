@@ -26,6 +26,7 @@ AnchorRules AnchorRules::fromOptions(const MotionRemovalOptions& options,
   rules.solid_min_share = options.solid_min_share;
   rules.solid_anchor_min_bins = unitsIn(options.solid_anchor_min_angle, geometry.binWidth());
   rules.glass_max_static_neighbours = options.glass_max_static_neighbours;
+  rules.column_max_radius_cells = options.column_max_radius / geometry.resolution();
   // Departures read the history of the cells that could be widely visible (no fewer bins
   // can be). Not of cells merely confirmed for the persistence time: glass confirmed that way
   // is seen through in its jittered lobe's edge bins later, which reads as a departure.

@@ -1,6 +1,7 @@
 #include "reflectance_field_map/core/motion_removal.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace rfm {
 
@@ -50,6 +51,18 @@ void appendRuns(const uint64_t* mask, int bins, std::vector<Run>& runs) {
 CellBox bandBox(const CellBox& box, int first_row, int end_row) {
   return {{box.min.x(), box.min.y() + first_row}, {box.max.x(), box.min.y() + end_row}};
 }
+
+// Round columns (AnchorRules::column_max_radius_cells). Thinner things, such as table legs, are
+// dots on the grid rather than rims, and rays pass beside them through their cells: drawn as
+// structure they would cut those rays (Alg. 3).
+constexpr double kColumnMinRadiusCells = 3.0;
+// The directions turn through at least 45 deg around the rim. One direction along a straight
+// stroke is a pane, or a person crossing the robot's view.
+constexpr double kColumnMinTurn = kPi / 4.0;
+// The cells lie on the rim, within a cell of it (cells filling a disc scatter by 0.35 of its
+// radius about the fitted rim), and there are a few of them.
+constexpr double kColumnMaxRmsCells = 1.0;
+constexpr uint32_t kColumnMinRuns = 5;
 
 }  // namespace
 
@@ -251,6 +264,56 @@ bool MotionRemover::spansAtLeast(uint32_t root, int min_cells) const {
   return std::max(e.max_x - e.min_x, e.max_y - e.min_y) + 1 >= min_cells;
 }
 
+bool MotionRemover::anchoredByCells(uint32_t root) const {
+  return anchored_[root] != 0 || heldByPersistence(root) ||
+         (anchors_.solid_max_missed_ratio > 0.0 &&
+          solid_runs_[root] >= anchors_.solid_min_share * runs_in_[root]);
+}
+
+void MotionRemover::anchorRoundColumns(const ReflectanceField& field, const CellBox& box) {
+  const int bins = field.geometry().thetaBins();
+  if (static_cast<int>(half_bin_cos_.size()) != 2 * bins) {
+    half_bin_cos_.resize(2 * bins);
+    half_bin_sin_.resize(2 * bins);
+    for (int i = 0; i < 2 * bins; ++i) {
+      const double angle = 0.5 * i * field.geometry().binWidth();
+      half_bin_cos_[i] = std::cos(angle);
+      half_bin_sin_[i] = std::sin(angle);
+    }
+  }
+  // Each run of a component that its cells do not anchor is a point at its cell's centre
+  // (box-local cells) seen along its central direction, weighted by its length in bins. Those
+  // components are few (people, clutter): one fit each.
+  constexpr uint32_t kNoFit = UINT32_MAX;
+  column_fit_of_root_.assign(runs_.size(), kNoFit);
+  column_fits_.clear();
+  const size_t width = box.width();
+  for (size_t local = 0; local + 1 < cell_first_run_.size(); ++local) {
+    const uint32_t first = cell_first_run_[local], last = cell_first_run_[local + 1];
+    for (uint32_t r = first; r < last; ++r) {
+      const uint32_t root = root_[r];
+      if (runs_in_[root] < kColumnMinRuns || anchoredByCells(root)) continue;
+      uint32_t& fit = column_fit_of_root_[root];
+      if (fit == kNoFit) {
+        fit = static_cast<uint32_t>(column_fits_.size());
+        column_fits_.push_back({root, NormalCircleFit()});
+      }
+      const int centre = (2 * runs_[r].first_bin + runs_[r].length) % (2 * bins);
+      column_fits_[fit].second.add(static_cast<double>(local % width),
+                                   static_cast<double>(local / width), half_bin_cos_[centre],
+                                   half_bin_sin_[centre], runs_[r].length);
+    }
+  }
+  const double min_spread = spreadOfTurn(kColumnMinTurn);
+  for (const auto& [root, fit] : column_fits_) {
+    if (fit.spread() < min_spread) continue;
+    const NormalCircleFit::Circle circle = fit.fit();
+    anchored_[root] = circle.radius >= kColumnMinRadiusCells &&
+                      circle.radius <= anchors_.column_max_radius_cells &&
+                      circle.rms <= kColumnMaxRmsCells;
+  }
+}
+
 bool MotionRemover::heldByPersistence(uint32_t root) const {
   // A person who walked in and stood still is confirmed for as long as they stand. A component
   // with as large a share of its runs in solid cells that arrived as makes one structure
@@ -294,10 +357,7 @@ void MotionRemover::classifyBand(const ReflectanceField& field, const CellBox& b
           for (uint32_t r = first; r < last; ++r) {
             reflective += runs_[r].length;
             widest = std::max<int>(widest, runs_[r].length);
-            const uint32_t root = root_[r];
-            anchored |= anchored_[root] != 0 || heldByPersistence(root) ||
-                        (anchors_.solid_max_missed_ratio > 0.0 &&
-                         solid_runs_[root] >= anchors_.solid_min_share * runs_in_[root]);
+            anchored |= anchoredByCells(root_[r]);
           }
           CellClass& c = classes[local];
           c = rule_.classify(reflective, field.missedBinsAt(slots_[local]));
@@ -391,6 +451,7 @@ MotionRemovalCounts MotionRemover::classify(
     root_[r] = find(r);
     counts.components += root_[r] == r;
   }
+  if (anchors_.column_max_radius_cells > 0.0) anchorRoundColumns(field, box);
   classes.resize(cells);
   std::vector<MotionRemovalCounts> band_counts(parts);
   band_glass_.resize(parts);

@@ -70,6 +70,7 @@ void MotionRemovalOptions::validate() const {
   requireRange("solid_min_share", solid_min_share, 0.0, 1.0);
   requireRange("solid_anchor_min_angle", solid_anchor_min_angle, 0.0, kTwoPi);
   requireRange("glass_max_static_neighbours", glass_max_static_neighbours, -1, 8);
+  requireRange("column_max_radius", column_max_radius, 0.0, 10.0);
 }
 
 void ReflectionRemovalOptions::validate() const {

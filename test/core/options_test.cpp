@@ -37,6 +37,7 @@ TEST(MapperOptions, EveryBadValueIsRejectedNamingTheField) {
       {"solid_min_share", {-0.1, 1.1, nan}},
       {"solid_anchor_min_angle", {-0.1, 7.0, nan}},
       {"glass_max_static_neighbours", {-2, 9}},
+      {"column_max_radius", {-0.1, 10.5, nan}},
       {"static_blocking_min_angle", {-0.1, 7.0, nan}},
       {"penetration_tolerance", {-0.1, 10.0}},
       {"glass_completion_max_gap", {-0.1, 25.0, nan}},

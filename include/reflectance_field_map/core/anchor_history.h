@@ -60,6 +60,9 @@ struct AnchorRules {
   // with more static neighbours (of 8) than this lies against structure: it is that structure's
   // surface, blurred by pose error, and static. Negative: off.
   int glass_max_static_neighbours = -1;
+  // A component that no other rule anchors and whose cells lie on a circle of at most this
+  // radius (cells), each returning along its normal from outside, is a round column (0: off).
+  double column_max_radius_cells = 0.0;
 
   // Which cells keep a history. Cells with at least this many reflective bins at a tick (those
   // that could be widely visible) remember those bins (departures); max: none.

@@ -2,12 +2,14 @@
 
 #include "reflectance_field_map/core/anchor_history.h"
 #include "reflectance_field_map/core/cell_class.h"
+#include "reflectance_field_map/core/circle_fit.h"
 #include "reflectance_field_map/core/occupancy.h"
 #include "reflectance_field_map/core/parallel_runner.h"
 #include "reflectance_field_map/core/reflectance_field.h"
 
 #include <cstdint>
 #include <functional>
+#include <utility>
 #include <vector>
 
 namespace rfm {
@@ -26,7 +28,8 @@ struct MotionRemovalCounts {
 // bin of each other, which is 26-connectivity in (x, y, theta). Components are found with an
 // iterative union-find. A component touching a widely visible cell (eq. 7), a known obstacle
 // just outside the box, or a cell that the anchor rules let anchor (AnchorHistory: long
-// confirmed, never seen through) is a static structure: its cells are static (widely visible) or
+// confirmed, never seen through), or one shaped as a round column (AnchorRules::
+// column_max_radius_cells), is a static structure: its cells are static (widely visible) or
 // glass/metal; any other component is motion. Cells that departed (AnchorHistory) anchor nothing.
 class MotionRemover {
  public:
@@ -87,6 +90,12 @@ class MotionRemover {
   // Whether the long-confirmed cells of the component of `root` anchor it: it is long enough
   // (persistence_min_cells) and less than solid_min_share of its runs lie in arrived solid cells.
   bool heldByPersistence(uint32_t root) const;
+  // Whether the component of `root` is structure by the rules read per cell: a widely visible or
+  // solid anchor, long-confirmed cells, or its share of solid runs.
+  bool anchoredByCells(uint32_t root) const;
+  // Anchors the components that no cell anchors and whose runs lie on a round column's rim, each
+  // returning along the rim's normal (NormalCircleFit over the runs' central directions).
+  void anchorRoundColumns(const ReflectanceField& field, const CellBox& box);
 
   uint32_t find(uint32_t node);
   void unite(uint32_t a, uint32_t b);
@@ -121,6 +130,11 @@ class MotionRemover {
       anchor_cell_;             // per box cell: anchors (widely visible or solid), drawn static
   std::vector<uint8_t> solid_;  // per box cell (AnchorRules::solid_max_missed_ratio)
   std::vector<std::vector<size_t>> band_glass_;  // per band: its glass and metal cells
+
+  // Round columns (anchorRoundColumns): a fit per component its cells do not anchor.
+  std::vector<uint32_t> column_fit_of_root_;  // per root: its index in column_fits_
+  std::vector<std::pair<uint32_t, NormalCircleFit>> column_fits_;  // root and fit
+  std::vector<double> half_bin_cos_, half_bin_sin_;                // directions at half-bin steps
 
   // The box's tiles (of the field's window) and what classify does with each.
   int tile_cells_ = 1;

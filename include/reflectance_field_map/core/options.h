@@ -136,6 +136,12 @@ struct MotionRemovalOptions {
   // against structure: it is that structure's surface blurred by pose error, and static. Glass
   // is a thin surface with open space on both sides. -1 disables.
   int glass_max_static_neighbours = 2;
+  // A component whose cells lie on a circle of at most this radius, each returning along the
+  // circle's normal from outside, is a round column: structure. Polished metal returns a beam
+  // only near its normal and folds the others away through its cells, so no cell of such a
+  // column is solid or widely visible, and with no frame beside it nothing else anchors it.
+  // m, 0 disables.
+  double column_max_radius = 1.0;
   void validate() const;
   template <typename Self, typename Visit>
   static void forEachParameter(Self& self, Visit&& visit) {
@@ -161,6 +167,8 @@ struct MotionRemovalOptions {
           self.solid_anchor_min_angle);
     visit("glass_max_static_neighbours", "static neighbours of a cell that can be glass (-1 off)",
           self.glass_max_static_neighbours);
+    visit("column_max_radius", "max radius of a round column found by its normals (m, 0 off)",
+          self.column_max_radius);
   }
 };
 
