@@ -287,23 +287,28 @@ void MotionRemover::anchorRoundColumns(const ReflectanceField& field, const Cell
   constexpr uint32_t kNoFit = UINT32_MAX;
   column_fit_of_root_.assign(runs_.size(), kNoFit);
   column_fits_.clear();
-  const size_t width = box.width();
-  for (size_t local = 0; local + 1 < cell_first_run_.size(); ++local) {
-    const uint32_t first = cell_first_run_[local], last = cell_first_run_[local + 1];
-    for (uint32_t r = first; r < last; ++r) {
-      const uint32_t root = root_[r];
-      if (runs_in_[root] < kColumnMinRuns || anchoredByCells(root)) continue;
-      uint32_t& fit = column_fit_of_root_[root];
-      if (fit == kNoFit) {
-        fit = static_cast<uint32_t>(column_fits_.size());
-        column_fits_.push_back({root, NormalCircleFit()});
-      }
-      const int centre = (2 * runs_[r].first_bin + runs_[r].length) % (2 * bins);
-      column_fits_[fit].second.add(static_cast<double>(local % width),
-                                   static_cast<double>(local / width), half_bin_cos_[centre],
-                                   half_bin_sin_[centre], runs_[r].length);
+  for (uint32_t r = 0; r < runs_.size(); ++r) {
+    if (root_[r] == r && runs_in_[r] >= kColumnMinRuns && !anchoredByCells(r)) {
+      column_fit_of_root_[r] = static_cast<uint32_t>(column_fits_.size());
+      column_fits_.push_back({r, NormalCircleFit()});
     }
   }
+  if (column_fits_.empty()) return;
+  const size_t width = box.width();
+  field.window().forEachTileSpan(box, [&](int y, int x_begin, int x_end, int) {
+    if (tile_work_[boxTileOf(x_begin, y)] != TileWork::kComponents) return;
+    const size_t begin = (y - box.min.y()) * width + (x_begin - box.min.x());
+    for (size_t local = begin; local < begin + (x_end - x_begin); ++local) {
+      for (uint32_t r = cell_first_run_[local]; r < cell_first_run_[local + 1]; ++r) {
+        const uint32_t fit = column_fit_of_root_[root_[r]];
+        if (fit == kNoFit) continue;
+        const int centre = (2 * runs_[r].first_bin + runs_[r].length) % (2 * bins);
+        column_fits_[fit].second.add(static_cast<double>(local % width),
+                                     static_cast<double>(y - box.min.y()), half_bin_cos_[centre],
+                                     half_bin_sin_[centre], runs_[r].length);
+      }
+    }
+  });
   const double min_spread = spreadOfTurn(kColumnMinTurn);
   for (const auto& [root, fit] : column_fits_) {
     if (fit.spread() < min_spread) continue;
