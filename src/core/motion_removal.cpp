@@ -264,7 +264,7 @@ bool MotionRemover::spansAtLeast(uint32_t root, int min_cells) const {
   return std::max(e.max_x - e.min_x, e.max_y - e.min_y) + 1 >= min_cells;
 }
 
-bool MotionRemover::anchoredByCells(uint32_t root) const {
+bool MotionRemover::isStructure(uint32_t root) const {
   return anchored_[root] != 0 || heldByPersistence(root) ||
          (anchors_.solid_max_missed_ratio > 0.0 &&
           solid_runs_[root] >= anchors_.solid_min_share * runs_in_[root]);
@@ -281,14 +281,14 @@ void MotionRemover::anchorRoundColumns(const ReflectanceField& field, const Cell
       half_bin_sin_[i] = std::sin(angle);
     }
   }
-  // Each run of a component that its cells do not anchor is a point at its cell's centre
+  // Each run of a component that is not yet structure is a point at its cell's centre
   // (box-local cells) seen along its central direction, weighted by its length in bins. Those
   // components are few (people, clutter): one fit each.
   constexpr uint32_t kNoFit = UINT32_MAX;
   column_fit_of_root_.assign(runs_.size(), kNoFit);
   column_fits_.clear();
   for (uint32_t r = 0; r < runs_.size(); ++r) {
-    if (root_[r] == r && runs_in_[r] >= kColumnMinRuns && !anchoredByCells(r)) {
+    if (root_[r] == r && runs_in_[r] >= kColumnMinRuns && !isStructure(r)) {
       column_fit_of_root_[r] = static_cast<uint32_t>(column_fits_.size());
       column_fits_.push_back({r, NormalCircleFit()});
     }
@@ -362,7 +362,7 @@ void MotionRemover::classifyBand(const ReflectanceField& field, const CellBox& b
           for (uint32_t r = first; r < last; ++r) {
             reflective += runs_[r].length;
             widest = std::max<int>(widest, runs_[r].length);
-            anchored |= anchoredByCells(root_[r]);
+            anchored |= isStructure(root_[r]);
           }
           CellClass& c = classes[local];
           c = rule_.classify(reflective, field.missedBinsAt(slots_[local]));

@@ -90,11 +90,13 @@ class MotionRemover {
   // Whether the long-confirmed cells of the component of `root` anchor it: it is long enough
   // (persistence_min_cells) and less than solid_min_share of its runs lie in arrived solid cells.
   bool heldByPersistence(uint32_t root) const;
-  // Whether the component of `root` is structure by the rules read per cell: a widely visible or
-  // solid anchor, long-confirmed cells, or its share of solid runs.
-  bool anchoredByCells(uint32_t root) const;
-  // Anchors the components that no cell anchors and whose runs lie on a round column's rim, each
-  // returning along the rim's normal (NormalCircleFit over the runs' central directions).
+  // Whether the component of `root` is structure: anchored_ (a widely visible or solid anchor, a
+  // known obstacle beside the box, a round column), long-confirmed cells or its share of solid
+  // runs.
+  bool isStructure(uint32_t root) const;
+  // Anchors the components that are not yet structure and whose runs lie on a round column's
+  // rim, each returning along the rim's normal (NormalCircleFit over the runs' central
+  // directions).
   void anchorRoundColumns(const ReflectanceField& field, const CellBox& box);
 
   uint32_t find(uint32_t node);
@@ -131,7 +133,7 @@ class MotionRemover {
   std::vector<uint8_t> solid_;  // per box cell (AnchorRules::solid_max_missed_ratio)
   std::vector<std::vector<size_t>> band_glass_;  // per band: its glass and metal cells
 
-  // Round columns (anchorRoundColumns): a fit per component its cells do not anchor.
+  // Round columns (anchorRoundColumns): a fit per component that is not yet structure.
   std::vector<uint32_t> column_fit_of_root_;  // per root: its index in column_fits_
   std::vector<std::pair<uint32_t, NormalCircleFit>> column_fits_;  // root and fit
   std::vector<double> half_bin_cos_, half_bin_sin_;                // directions at half-bin steps
