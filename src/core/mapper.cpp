@@ -10,6 +10,7 @@
 
 #include <chrono>
 #include <istream>
+#include <limits>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -75,7 +76,6 @@ struct Mapper::Impl {
   std::vector<Ray> rays;
   std::vector<std::vector<Ray>> pending;                 // addScans: prepared, not yet inserted
   std::chrono::steady_clock::time_point last_scan_done;  // addScan's last return
-  CellBox pending_revert;  // new glass whose revert (revertBehindNewGlass) has not run yet
 };
 
 Mapper::Mapper(const MapperOptions& options, const MapperLayout& layout)
@@ -107,7 +107,8 @@ ScanUpdate Mapper::addScan(const TimedScan& scan) {
 }
 
 ScanUpdate Mapper::addScanSharing(const TimedScan& scan, bool share) {
-  revertBehindNewGlass();
+  // The kept scans refer to the window: a revert still pending when it moves runs first.
+  if (field_.wouldRecenter(regionCentre(scan))) revertBehindNewGlass();
   runDueTick();
   ScanUpdate update = placeScan(scan);
   if (!update.error.empty()) return update;
@@ -267,7 +268,7 @@ MotionRemovalSummary Mapper::classifyActiveRegion() {
   classifier.writeTo(field_.window(), map_);
   summary.new_glass = !new_glass.empty();
   if (summary.new_glass && options_.reflection_removal.reflection_removal_enabled) {
-    impl_->pending_revert = new_glass;
+    impl_->reflections.startRevert(new_glass);
   }
   summary.elapsed_ms = millisecondsSince(start);
   MapperStats& stats = impl_->stats;
@@ -280,10 +281,24 @@ MotionRemovalSummary Mapper::classifyActiveRegion() {
 }
 
 void Mapper::revertBehindNewGlass() {
-  if (impl_->pending_revert.empty()) return;
+  revertPartBehindNewGlass(std::numeric_limits<size_t>::max());
+}
+
+void Mapper::revertPartBehindNewGlass() {
+  // A quarter to half of a live scan's own work (0.3 ms on the atrium), so that a replay at 10x
+  // (a scan every 1.25 ms) keeps up; a pass's revert then takes about ten scans.
+  constexpr size_t kRaysPerPart = 1024;
+  revertPartBehindNewGlass(kRaysPerPart);
+}
+
+bool Mapper::revertPending() const {
+  return impl_->reflections.revertPending();
+}
+
+void Mapper::revertPartBehindNewGlass(size_t ray_budget) {
+  if (!impl_->reflections.revertPending()) return;
   const auto start = std::chrono::steady_clock::now();
-  const CellBox new_glass = std::exchange(impl_->pending_revert, CellBox());
-  impl_->reflections.revertBehindGlass(new_glass, impl_->inserter, field_);
+  impl_->stats.reverted_scans += impl_->reflections.revertSome(ray_budget, impl_->inserter, field_);
   impl_->stats.last_motion_removal_ms += millisecondsSince(start);
 }
 
@@ -336,8 +351,7 @@ void Mapper::restartEvidence() {
 
 void Mapper::forgetDerivedState() {
   impl_->reflections.thaw();
-  impl_->reflections.forgetScans();
-  impl_->pending_revert = CellBox();  // the scans it would re-process are forgotten
+  impl_->reflections.forgetScans();  // and the revert pending on them
   impl_->anchor_history.clear();
   impl_->tick_due = false;
   impl_->classes.clear();

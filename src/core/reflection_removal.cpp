@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <utility>
 
@@ -256,62 +257,79 @@ void ReflectionRemover::keep(const std::vector<Ray>& rays, const Eigen::Vector2d
                              double first_beam_angle, double increment) {
   if (buffer_size_ == 0) return;
   buffer_.push_back({rays, origin, first_beam_angle, increment});
-  while (buffer_.size() > buffer_size_)
+  // A pending revert holds its scans, the oldest last (revertSome).
+  while (buffer_.size() > buffer_size_ && revert_pending_ == 0)
     buffer_.pop_front();
+}
+
+void ReflectionRemover::startRevert(const CellBox& new_glass) {
+  revert_box_ = new_glass;
+  revert_pending_ = buffer_.size();
+}
+
+size_t ReflectionRemover::revertSome(size_t ray_budget, ScanInserter& inserter,
+                                     ReflectanceField& field) {
+  const size_t pending = revert_pending_;
+  size_t spent = 0;
+  while (revert_pending_ > 0 && spent < ray_budget)
+    spent += revertScan(buffer_[--revert_pending_], inserter, field);
+  return pending - revert_pending_;
 }
 
 void ReflectionRemover::revertBehindGlass(const CellBox& new_glass, ScanInserter& inserter,
                                           ReflectanceField& field) {
-  // Replay each affected scan's de-duplicated updates with and without the evidence beyond the
-  // glass and apply the difference. De-duplication is per theta bin, so only the bins holding
-  // a changed ray are replayed, and only rays crossing the new glass can change.
+  startRevert(new_glass);
+  revertSome(std::numeric_limits<size_t>::max(), inserter, field);
+}
+
+size_t ReflectionRemover::revertScan(KeptScan& kept, ScanInserter& inserter,
+                                     ReflectanceField& field) {
+  // Replay the scan's de-duplicated updates with and without the evidence beyond the glass and
+  // apply the difference. De-duplication is per theta bin, so only the bins holding a changed
+  // ray are replayed, and only rays crossing the new glass can change.
   const GridGeometry& geometry = field.geometry();
   const double resolution = geometry.resolution();
-  std::vector<BinUpdate> before, after;
-  std::vector<Ray> old_rays, new_rays;
-  std::vector<std::pair<size_t, Ray>> truncated;  // index in the scan, ray cut at the glass
-  std::vector<uint8_t> bin_changed(geometry.thetaBins());
-  std::vector<BeamRange> beam_ranges;
-  std::vector<uint8_t> slot_marks;  // applyDifference's, sized once a scan has a ray to change
+  RevertScratch& s = scratch_;
   auto by_beam = [](const Ray& ray, uint32_t beam) { return ray.beam < beam; };
-  for (KeptScan& kept : buffer_) {
-    truncated.clear();
-    // Rays are in beam order: only those heading towards the new glass are looked at.
-    beamsTowardsBox(new_glass, resolution, kept.origin, kept.first_beam_angle, kept.increment,
-                    beam_ranges);
-    for (const BeamRange& range : beam_ranges) {
-      auto it = std::lower_bound(kept.rays.begin(), kept.rays.end(), range.first, by_beam);
-      for (; it != kept.rays.end() && it->beam <= range.last; ++it) {
-        Ray ray = *it;
-        if (!clipRayToBox(new_glass, resolution, ray)) continue;  // misses the new glass
-        ray = *it;
-        double distance = -1.0;
-        passThroughDistances(&ray, 1, &distance);
-        if (cutAtDistance(distance, ray)) truncated.emplace_back(it - kept.rays.begin(), ray);
-      }
+  s.truncated.clear();
+  size_t checked = 0;
+  // Rays are in beam order: only those heading towards the new glass are looked at.
+  beamsTowardsBox(revert_box_, resolution, kept.origin, kept.first_beam_angle, kept.increment,
+                  s.beam_ranges);
+  for (const BeamRange& range : s.beam_ranges) {
+    auto it = std::lower_bound(kept.rays.begin(), kept.rays.end(), range.first, by_beam);
+    for (; it != kept.rays.end() && it->beam <= range.last; ++it) {
+      ++checked;
+      Ray ray = *it;
+      if (!clipRayToBox(revert_box_, resolution, ray)) continue;  // misses the new glass
+      ray = *it;
+      double distance = -1.0;
+      passThroughDistances(&ray, 1, &distance);
+      if (cutAtDistance(distance, ray)) s.truncated.emplace_back(it - kept.rays.begin(), ray);
     }
-    if (truncated.empty()) continue;  // in beam order: the ranges ascend and are disjoint
-    std::fill(bin_changed.begin(), bin_changed.end(), 0);
-    for (const auto& changed : truncated)
-      bin_changed[geometry.binOf(changed.second.angle)] = 1;
-    old_rays.clear();
-    new_rays.clear();
-    auto next_truncated = truncated.begin();
-    for (size_t k = 0; k < kept.rays.size(); ++k) {
-      const bool cut = next_truncated != truncated.end() && next_truncated->first == k;
-      const Ray& now = cut ? (next_truncated++)->second : kept.rays[k];
-      if (!bin_changed[geometry.binOf(now.angle)]) continue;
-      old_rays.push_back(kept.rays[k]);
-      new_rays.push_back(now);
-    }
-    inserter.collectUpdates(old_rays, field, before);
-    inserter.collectUpdates(new_rays, field, after);
-    const int side = field.window().sizeCells();
-    if (slot_marks.empty()) slot_marks.assign(static_cast<size_t>(side) * side, 0);
-    applyDifference(before, after, slot_marks, field);
-    for (const auto& changed : truncated)
-      kept.rays[changed.first] = changed.second;
   }
+  if (s.truncated.empty()) return checked;  // in beam order: the ranges ascend and are disjoint
+  s.bin_changed.assign(geometry.thetaBins(), 0);
+  for (const auto& changed : s.truncated)
+    s.bin_changed[geometry.binOf(changed.second.angle)] = 1;
+  s.old_rays.clear();
+  s.new_rays.clear();
+  auto next_truncated = s.truncated.begin();
+  for (size_t k = 0; k < kept.rays.size(); ++k) {
+    const bool cut = next_truncated != s.truncated.end() && next_truncated->first == k;
+    const Ray& now = cut ? (next_truncated++)->second : kept.rays[k];
+    if (!s.bin_changed[geometry.binOf(now.angle)]) continue;
+    s.old_rays.push_back(kept.rays[k]);
+    s.new_rays.push_back(now);
+  }
+  inserter.collectUpdates(s.old_rays, field, s.before);
+  inserter.collectUpdates(s.new_rays, field, s.after);
+  const size_t slots = static_cast<size_t>(field.window().sizeCells()) * field.window().sizeCells();
+  if (s.slot_marks.size() != slots) s.slot_marks.assign(slots, 0);  // applyDifference clears them
+  applyDifference(s.before, s.after, s.slot_marks, field);
+  for (const auto& changed : s.truncated)
+    kept.rays[changed.first] = changed.second;
+  return checked + s.old_rays.size() + s.new_rays.size();
 }
 
 }  // namespace rfm

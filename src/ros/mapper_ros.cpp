@@ -422,9 +422,11 @@ void MapperRos::processScan(ScanInput& input, ArrivedScan arrived) {
   // Motion removal every 1 / motion_removal_rate s of the scans' own clock, after the scan's
   // labels went out: which scans a pass has seen then depends on the recording alone, not on
   // how fast this machine keeps up with it (rfm_live_labels does the same). A persistence tick
-  // the scan made due runs here too, off its latency.
+  // the scan made due, and a part of the last pass's revert behind new glass, run here too, off
+  // its latency.
   std::lock_guard<std::mutex> lock(mapper_mutex_);
   mapper_->runDueTick();
+  mapper_->revertPartBehindNewGlass();
   const double stamp = msg->header.stamp.toSec();
   const double period = motionRemovalPeriod();
   // A pass stamped far ahead of the scans (one scan stamped in the future) must not hold the
@@ -504,9 +506,8 @@ void MapperRos::removeMotionAndPublishLocked() {
   map_changed_ = true;
   markers_changed_ = true;
   if (publishMapUpdateLocked()) pass_to_update_.add(elapsedMs(start));
-  // The classes are out: Alg. 3's re-processing of the buffered scans behind new glass changes
-  // only the evidence the next scans meet.
-  mapper_->revertBehindNewGlass();
+  // Alg. 3's re-processing of the buffered scans behind new glass changes only the evidence the
+  // next scans meet: it goes in parts after the next scans (processScan).
 }
 
 void MapperRos::mapTimer(const ros::WallTimerEvent&) {
@@ -701,6 +702,7 @@ bool MapperRos::saveMap(reflectance_field_map::SaveMap::Request& request,
     if (scans_since_motion_removal_ > 0) {
       removeMotionAndPublishLocked();
     }
+    mapper_->revertBehindNewGlass();  // the state file holds no evidence from beyond glass
     response.success = saveMapFiles(prefix, *mapper_, params_.fixed_frame, &error);
   }
   if (response.success) {

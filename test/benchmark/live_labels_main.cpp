@@ -3,7 +3,8 @@
 //   rfm_live_labels IN.bag OUT_labels.bag [PARAMS.yaml] [--scan-topics /a,/b] [--fixed-frame F]
 //
 // The node's per-scan path (MapperRos::processScan): addScan, then labelAddedScan against the
-// map so far, and removeMotion every 1 / motion_removal_rate s of the scans' clock. Each beam is
+// map so far, a part of the last pass's revert behind new glass, and a pass
+// (classifyActiveRegion) every 1 / motion_removal_rate s of the scans' clock. Each beam is
 // judged when its scan arrives, as AMCL or a costmap would see the filtered scan, not against the
 // final map as rfm_offline does.
 #include "reflectance_field_map/core/mapper.h"
@@ -62,8 +63,9 @@ int main(int argc, char** argv) {
     labels.reserve(scans.scans.size());
     for (const rfm::TimedScan& scan : scans.scans) {
       labels.push_back(mapper.labelAddedScan(scan, mapper.addScan(scan)));
+      mapper.revertPartBehindNewGlass();
       if (scan.stamp - last_motion_removal >= motion_removal_period) {
-        mapper.removeMotion();
+        mapper.classifyActiveRegion();  // its revert goes in parts, as in the node
         last_motion_removal = scan.stamp;
       }
     }

@@ -79,36 +79,68 @@ TEST(Mapper, SaveLoadRoundTripsTheMapAndTheField) {
   EXPECT_FALSE(restored.load(garbage));
 }
 
-// removeMotion() in its two steps leaves the mapper as removeMotion() does, whether the caller
-// runs the revert behind new glass itself or leaves it to the next scan: the same labels for
+// removeMotion() in its two steps leaves the mapper as removeMotion() does: the same labels for
 // every scan and the same state saved.
 TEST(Mapper, APassInTwoStepsGivesWhatRemoveMotionGives) {
   const SyntheticWorld world = testing::paneWithWallBehindWorld();
   const std::vector<testing::ScenarioStep> steps = testing::driveAlongThePane();
-  Mapper whole(testing::scenarioOptions()), split(testing::scenarioOptions()),
-      left(testing::scenarioOptions());
+  Mapper whole(testing::scenarioOptions()), split(testing::scenarioOptions());
   int passes_with_new_glass = 0;
   for (size_t i = 0; i < steps.size(); ++i) {
     const TimedScan scan = world.timedScan(steps[i].robot, 0.025 * i);
     const std::vector<RayLabel> labels = whole.labelAddedScan(scan, whole.addScan(scan));
     ASSERT_EQ(split.labelAddedScan(scan, split.addScan(scan)), labels) << "scan " << i;
-    ASSERT_EQ(left.labelAddedScan(scan, left.addScan(scan)), labels) << "scan " << i;
     if ((i + 1) % 20 != 0) continue;
-    passes_with_new_glass += whole.removeMotion().new_glass;
+    const bool new_glass = whole.removeMotion().new_glass;
+    passes_with_new_glass += new_glass;
     split.classifyActiveRegion();
+    EXPECT_EQ(split.revertPending(), new_glass) << "scan " << i;
     split.revertBehindNewGlass();
-    left.classifyActiveRegion();  // its revert runs when the next scan comes
+    EXPECT_FALSE(split.revertPending());
   }
-  left.revertBehindNewGlass();
   EXPECT_GT(passes_with_new_glass, 0);
   auto saved = [](const Mapper& mapper) {
     std::ostringstream out;
     mapper.save(out);
     return out.str();
   };
-  const std::string expected = saved(whole);
-  EXPECT_TRUE(saved(split) == expected);
-  EXPECT_TRUE(saved(left) == expected);
+  EXPECT_TRUE(saved(split) == saved(whole));
+}
+
+// A live caller spreads a pass's revert over the scans after it (the node's order: the scan's
+// labels, a part of the revert, a pass when due): each revert is done within a few scans, and
+// one still pending when the active region moves is finished before the move.
+TEST(Mapper, ARevertInPartsEndsBeforeTheNextPassAndBeforeTheRegionMoves) {
+  const SyntheticWorld world = testing::paneWithWallBehindWorld();
+  const std::vector<testing::ScenarioStep> steps = testing::driveAlongThePane();
+  Mapper parts(testing::scenarioOptions()), left(testing::scenarioOptions());
+  int reverts = 0, finished_by_a_move = 0, most_parts = 0, parts_of_this = 0;
+  for (size_t i = 0; i < steps.size(); ++i) {
+    const TimedScan scan = world.timedScan(steps[i].robot, 0.025 * i);
+    parts.addScan(scan);
+    parts_of_this += parts.revertPending();
+    most_parts = std::max(most_parts, parts_of_this);
+    parts.revertPartBehindNewGlass();
+    const bool was_pending = left.revertPending();
+    const ScanUpdate update = left.addScan(scan);  // no parts: only a move finishes its revert
+    if (update.region_moved) {
+      EXPECT_FALSE(left.revertPending()) << "scan " << i;
+    }
+    finished_by_a_move += was_pending && update.region_moved;
+    if ((i + 1) % 20 != 0) continue;
+    EXPECT_FALSE(parts.revertPending()) << "scan " << i;
+    reverts += parts.classifyActiveRegion().new_glass;
+    parts_of_this = 0;
+    left.classifyActiveRegion();
+  }
+  EXPECT_GT(reverts, 0);
+  EXPECT_GT(most_parts, 1);  // spread, not done at once
+  EXPECT_GT(finished_by_a_move, 0);
+  // Each revert took back every scan it marked.
+  parts.revertBehindNewGlass();
+  left.revertBehindNewGlass();
+  EXPECT_GT(parts.stats().reverted_scans, 0u);
+  EXPECT_EQ(left.stats().reverted_scans, parts.stats().reverted_scans);
 }
 
 TEST(Mapper, ResetForgetsEverything) {

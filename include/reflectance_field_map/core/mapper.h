@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 
+#include <cstddef>
 #include <cstdint>
 #include <iosfwd>
 #include <memory>
@@ -59,7 +60,8 @@ struct MapperStats {
   double last_insert_ms = 0.0;
   double last_reflection_ms = 0.0;
   double last_motion_removal_ms = 0.0;
-  size_t occupied_cells = 0;  // in the active region, after the last motion removal
+  uint64_t reverted_scans = 0;  // kept scans taken back from beyond new glass (online Alg. 3)
+  size_t occupied_cells = 0;    // in the active region, after the last motion removal
   size_t free_cells = 0;
   size_t glass_cells = 0;
   size_t motion_cells = 0;
@@ -122,11 +124,14 @@ class Mapper {
   // removeMotion() in its two steps, for a caller that publishes the map between them: after
   // classifyActiveRegion() the classes and the global map are final (elapsed_ms is this step's);
   // revertBehindNewGlass() then takes back the evidence beyond new glass, a pass's longest part
-  // when it finds some. A revert still pending when the next scan, pass or evidence restart
-  // comes runs first, so the field sees the same updates in the same order either way (save()
-  // writes the field as it is).
+  // when it finds some. A live caller spreads it instead over the scans that follow, one
+  // revertPartBehindNewGlass() (a fraction of a scan's own work) after each scan's labels are
+  // out. Whatever is still pending runs first when the next pass or evidence restart comes or
+  // the active region moves (save() writes the field as it is).
   MotionRemovalSummary classifyActiveRegion();
   void revertBehindNewGlass();
+  void revertPartBehindNewGlass();
+  bool revertPending() const;
 
   // Classes of the explored map (global, survives the active region moving on).
   const GlobalMap2D& map() const { return map_; }
@@ -187,6 +192,8 @@ class Mapper {
   const Eigen::Vector2d& regionCentre(const TimedScan& scan) const;
   void makeRays(const TimedScan& scan, std::vector<Ray>& rays, ScanUpdate& update) const;
   void finishScan(const TimedScan& scan, const std::vector<Ray>& rays, const ScanUpdate& update);
+  // Reverts pending scans until `ray_budget` of their rays were checked or replayed.
+  void revertPartBehindNewGlass(size_t ray_budget);
   void countScan(double stamp);
   void keepInsertedRays(const TimedScan& scan, const std::vector<Ray>& rays);
   bool tickDue(double stamp) const;

@@ -12,7 +12,9 @@
 #include <Eigen/Core>
 
 #include <cstddef>
+#include <cstdint>
 #include <deque>
+#include <utility>
 #include <vector>
 
 namespace rfm {
@@ -57,20 +59,39 @@ class ReflectionRemover {
   // `increment` apart; the latest scan_buffer_size scans are kept.
   void keep(const std::vector<Ray>& rays, const Eigen::Vector2d& origin, double first_beam_angle,
             double increment);
-  // Forgets the kept scans (the window moved, or the evidence restarts).
-  void forgetScans() { buffer_.clear(); }
+  // Forgets the kept scans and any revert pending on them (the window moved, or the evidence
+  // restarts).
+  void forgetScans() {
+    buffer_.clear();
+    revert_pending_ = 0;
+  }
   // New glass appeared in `new_glass`: the kept scans whose rays pass through it added
   // evidence beyond it, which is taken back exactly (their de-duplicated updates replayed with
-  // and without it; a revert never moves a bin past the prior).
+  // and without it; a revert never moves a bin past the prior). startRevert marks the scans kept
+  // so far (scans kept later were cut at this glass already); revertSome takes back the marked
+  // scans, so that a caller can spread a revert over the scans that follow it. It goes newest
+  // first: the latest scans' evidence is what the next scans' labels meet. Until the revert is
+  // done, no scan leaves the buffer.
+  void startRevert(const CellBox& new_glass);
+  bool revertPending() const { return revert_pending_ > 0; }
+  // Reverts marked scans until `ray_budget` of their rays were checked or replayed (at least one
+  // scan, when any is marked); returns how many.
+  size_t revertSome(size_t ray_budget, ScanInserter& inserter, ReflectanceField& field);
+  // startRevert, then revertSome until none is pending.
   void revertBehindGlass(const CellBox& new_glass, ScanInserter& inserter, ReflectanceField& field);
 
  private:
+  struct KeptScan;
+
   // The check of one ray from `from` m along it on, leaping where the clearance allows by
   // `leap_unit` m per cell of clearance.
   double walkTowardsGlass(const Ray& ray, detail::PassThroughDetector& detector, double from,
                           double leap_unit) const;
   // Cuts a ray `along` m from its origin, where the check found glass (false if negative).
   bool cutAtDistance(double along, Ray& ray) const;
+  // Takes back one kept scan's evidence beyond revert_box_; returns the rays it checked and
+  // replayed.
+  size_t revertScan(KeptScan& kept, ScanInserter& inserter, ReflectanceField& field);
 
   // A scan as inserted, kept for online re-processing.
   struct KeptScan {
@@ -88,6 +109,19 @@ class ReflectionRemover {
   const ActiveClasses& classes_;
   FrozenReflectivity frozen_;
   std::deque<KeptScan> buffer_;
+  // The pending revert: the new glass, and how many of the oldest kept scans are still to revert.
+  CellBox revert_box_;
+  size_t revert_pending_ = 0;
+  // revertScan's working memory, kept across calls: a revert is spread over many of them.
+  struct RevertScratch {
+    std::vector<BinUpdate> before, after;
+    std::vector<Ray> old_rays, new_rays;
+    std::vector<std::pair<size_t, Ray>> truncated;  // index in the scan, ray cut at the glass
+    std::vector<uint8_t> bin_changed;
+    std::vector<BeamRange> beam_ranges;
+    std::vector<uint8_t> slot_marks;  // applyDifference's, one per window slot
+  };
+  RevertScratch scratch_;
 };
 
 }  // namespace rfm
