@@ -76,6 +76,9 @@ struct Mapper::Impl {
   std::vector<Ray> rays;
   std::vector<std::vector<Ray>> pending;                 // addScans: prepared, not yet inserted
   std::chrono::steady_clock::time_point last_scan_done;  // addScan's last return
+  // Where the last scans put the region's centre: revertPartBehindNewGlass looks ahead from it.
+  std::optional<Eigen::Vector2d> last_centre;
+  Eigen::Vector2d last_step = Eigen::Vector2d::Zero();
 };
 
 Mapper::Mapper(const MapperOptions& options, const MapperLayout& layout)
@@ -112,6 +115,10 @@ ScanUpdate Mapper::addScanSharing(const TimedScan& scan, bool share) {
   runDueTick();
   ScanUpdate update = placeScan(scan);
   if (!update.error.empty()) return update;
+  const Eigen::Vector2d& centre = regionCentre(scan);
+  impl_->last_step = impl_->last_centre ? Eigen::Vector2d(centre - *impl_->last_centre)
+                                        : Eigen::Vector2d::Zero();
+  impl_->last_centre = centre;
   update.shared = share && impl_->runner->threads() > 1;
   makeRays(scan, impl_->rays, update);
   // A return still a return after the clip is the whole ray: the check below sees all of it.
@@ -285,10 +292,19 @@ void Mapper::revertBehindNewGlass() {
 }
 
 void Mapper::revertPartBehindNewGlass() {
+  if (!revertPending()) return;
   // A quarter to half of a live scan's own work (0.3 ms on the atrium), so that a replay at 10x
   // (a scan every 1.25 ms) keeps up; a pass's revert then takes about ten scans.
   constexpr size_t kRaysPerPart = 1024;
-  revertPartBehindNewGlass(kRaysPerPart);
+  // What is pending when the region moves runs whole inside the scan that moves it. When the
+  // robot is this close to moving it (0.2 s at 1 m/s, the time the parts take), the rest runs
+  // now, between scans.
+  constexpr double kLookAhead = 0.2;  // m, along the last step
+  const Eigen::Vector2d& step = impl_->last_step;
+  const bool moves_soon =
+      impl_->last_centre && step.squaredNorm() > 0.0 &&
+      field_.wouldRecenter(*impl_->last_centre + kLookAhead * step.normalized());
+  revertPartBehindNewGlass(moves_soon ? std::numeric_limits<size_t>::max() : kRaysPerPart);
 }
 
 bool Mapper::revertPending() const {

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -108,19 +109,32 @@ TEST(Mapper, APassInTwoStepsGivesWhatRemoveMotionGives) {
 }
 
 // A live caller spreads a pass's revert over the scans after it (the node's order: the scan's
-// labels, a part of the revert, a pass when due): each revert is done within a few scans, and
-// one still pending when the active region moves is finished before the move.
+// labels, a part of the revert, a pass when due): each revert is done within a few scans. One
+// still pending when the active region moves is finished before the move, inside the scan that
+// moves it; the parts finish it between scans once the robot is 0.2 m from moving the region.
 TEST(Mapper, ARevertInPartsEndsBeforeTheNextPassAndBeforeTheRegionMoves) {
   const SyntheticWorld world = testing::paneWithWallBehindWorld();
-  const std::vector<testing::ScenarioStep> steps = testing::driveAlongThePane();
-  Mapper parts(testing::scenarioOptions()), left(testing::scenarioOptions());
-  int reverts = 0, finished_by_a_move = 0, most_parts = 0, parts_of_this = 0;
+  const std::vector<testing::ScenarioStep> steps = testing::driveAlongThePane();  // along +y
+  const MapperOptions options = testing::scenarioOptions();
+  const double tile = options.grid.tile_cells * options.grid.resolution;
+  Mapper parts(options), left(options);
+  int reverts = 0, most_parts = 0, parts_of_this = 0, finished_by_a_move = 0;
+  int finished_near_a_move = 0, spread_far_from_one = 0;
   for (size_t i = 0; i < steps.size(); ++i) {
     const TimedScan scan = world.timedScan(steps[i].robot, 0.025 * i);
     parts.addScan(scan);
-    parts_of_this += parts.revertPending();
+    const bool pending = parts.revertPending();
+    parts_of_this += pending;
     most_parts = std::max(most_parts, parts_of_this);
     parts.revertPartBehindNewGlass();
+    const double y = scan.robot_pose.position.y();
+    const double to_next_tile = tile * std::floor(y / tile + 1.0) - y;
+    if (pending && to_next_tile < 0.19) {
+      EXPECT_FALSE(parts.revertPending()) << "scan " << i;
+      ++finished_near_a_move;
+    }
+    spread_far_from_one += pending && to_next_tile > 0.21 && parts.revertPending();
+
     const bool was_pending = left.revertPending();
     const ScanUpdate update = left.addScan(scan);  // no parts: only a move finishes its revert
     if (update.region_moved) {
@@ -135,6 +149,8 @@ TEST(Mapper, ARevertInPartsEndsBeforeTheNextPassAndBeforeTheRegionMoves) {
   }
   EXPECT_GT(reverts, 0);
   EXPECT_GT(most_parts, 1);  // spread, not done at once
+  EXPECT_GT(finished_near_a_move, 0);
+  EXPECT_GT(spread_far_from_one, 0);
   EXPECT_GT(finished_by_a_move, 0);
   // Each revert took back every scan it marked.
   parts.revertBehindNewGlass();
