@@ -116,8 +116,8 @@ ScanUpdate Mapper::addScanSharing(const TimedScan& scan, bool share) {
   ScanUpdate update = placeScan(scan);
   if (!update.error.empty()) return update;
   const Eigen::Vector2d& centre = regionCentre(scan);
-  impl_->last_step = impl_->last_centre ? Eigen::Vector2d(centre - *impl_->last_centre)
-                                        : Eigen::Vector2d::Zero();
+  impl_->last_step =
+      impl_->last_centre ? Eigen::Vector2d(centre - *impl_->last_centre) : Eigen::Vector2d::Zero();
   impl_->last_centre = centre;
   update.shared = share && impl_->runner->threads() > 1;
   makeRays(scan, impl_->rays, update);
