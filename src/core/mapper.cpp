@@ -378,6 +378,8 @@ void Mapper::reset() {
   field_.clear();
   map_.clear();
   forgetDerivedState();
+  impl_->last_centre.reset();
+  impl_->last_step.setZero();
   impl_->stats = MapperStats();
 }
 
