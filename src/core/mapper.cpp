@@ -111,7 +111,7 @@ ScanUpdate Mapper::addScan(const TimedScan& scan) {
 
 ScanUpdate Mapper::addScanSharing(const TimedScan& scan, bool share) {
   // The kept scans refer to the window: a revert still pending when it moves runs first.
-  if (field_.wouldRecenter(regionCentre(scan))) revertBehindNewGlass();
+  if (revertPending() && field_.wouldRecenter(regionCentre(scan))) revertBehindNewGlass();
   runDueTick();
   ScanUpdate update = placeScan(scan);
   if (!update.error.empty()) return update;

@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <limits>
 #include <optional>
 #include <utility>
 
@@ -274,12 +273,6 @@ size_t ReflectionRemover::revertSome(size_t ray_budget, ScanInserter& inserter,
   while (revert_pending_ > 0 && spent < ray_budget)
     spent += revertScan(buffer_[--revert_pending_], inserter, field);
   return pending - revert_pending_;
-}
-
-void ReflectionRemover::revertBehindGlass(const CellBox& new_glass, ScanInserter& inserter,
-                                          ReflectanceField& field) {
-  startRevert(new_glass);
-  revertSome(std::numeric_limits<size_t>::max(), inserter, field);
 }
 
 size_t ReflectionRemover::revertScan(KeptScan& kept, ScanInserter& inserter,

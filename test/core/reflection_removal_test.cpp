@@ -294,6 +294,13 @@ CellBox classifyPanes(const ReflectanceField& field, ActiveClasses& classes) {
   return classes.replace(region, nullptr);
 }
 
+// Takes back every kept scan's evidence beyond `new_glass` at once (as removeMotion() does).
+void revertWhole(ReflectionRemover& remover, const CellBox& new_glass, ScanInserter& inserter,
+                 ReflectanceField& field) {
+  remover.startRevert(new_glass);
+  remover.revertSome(std::numeric_limits<size_t>::max(), inserter, field);
+}
+
 // Bins and reflective masks of the window that differ between two fields.
 size_t differingBins(const ReflectanceField& a, const ReflectanceField& b) {
   size_t differing = 0;
@@ -310,7 +317,7 @@ size_t differingBins(const ReflectanceField& a, const ReflectanceField& b) {
 }
 
 // A kept scan that crossed panes classified afterwards loses exactly its evidence beyond them:
-// the field after revertBehindGlass holds what the scan would have left cut at the panes. The
+// the field after the whole revert holds what the scan would have left cut at the panes. The
 // panes end inside some theta bins' fans, so their cells beyond keep the misses of the beams that
 // went past (the updates are de-duplicated per bin).
 TEST(ReflectionRemoval, RevertBehindNewGlassLeavesWhatTheScanCutAtItWouldHave) {
@@ -328,7 +335,7 @@ TEST(ReflectionRemoval, RevertBehindNewGlassLeavesWhatTheScanCutAtItWouldHave) {
   remover.keep(scan.rays, scan.origin, scan.first_angle, scan.increment);
   const CellBox new_glass = classifyPanes(field, classes);
   ASSERT_FALSE(new_glass.empty());
-  remover.revertBehindGlass(new_glass, inserter, field);
+  revertWhole(remover, new_glass, inserter, field);
 
   std::vector<Ray> cut_rays = scan.rays;
   std::vector<RayLabel> labels(cut_rays.size(), RayLabel::kNoReturn);
@@ -384,7 +391,7 @@ TEST(ReflectionRemoval, ARevertInPartsTakesBackWhatTheWholeRevertDoes) {
   }
   behind.first_angle += M_PI;
 
-  whole.revertBehindGlass(new_glass, inserter, whole_field);
+  revertWhole(whole, new_glass, inserter, whole_field);
   EXPECT_FALSE(whole.revertPending());
   parts.startRevert(parts_glass);
   for (int i = 0; i < 2; ++i) {

@@ -177,7 +177,7 @@ TEST(ScanInserter, UpdatesMatchAlgorithmOneRayByRayOnRandomScans) {
       rays.push_back(ray);
     }
     inserter.collectUpdates(rays, field, swept);
-    // Grouped by bin in ascending order, a slot once per bin (what revertBehindGlass pairs by).
+    // Grouped by bin in ascending order, a slot once per bin (what a revert pairs by).
     for (size_t i = 1; i < swept.size(); ++i) {
       ASSERT_LE(swept[i - 1].bin, swept[i].bin) << "trial " << trial << ", update " << i;
     }

@@ -77,11 +77,15 @@ class ReflectionRemover {
   // Reverts marked scans until `ray_budget` of their rays were checked or replayed (at least one
   // scan, when any is marked); returns how many.
   size_t revertSome(size_t ray_budget, ScanInserter& inserter, ReflectanceField& field);
-  // startRevert, then revertSome until none is pending.
-  void revertBehindGlass(const CellBox& new_glass, ScanInserter& inserter, ReflectanceField& field);
 
  private:
-  struct KeptScan;
+  // A scan as inserted, kept for online re-processing.
+  struct KeptScan {
+    std::vector<Ray> rays;    // in beam order
+    Eigen::Vector2d origin;   // of every ray (the sensor, inside the window)
+    double first_beam_angle;  // world direction of beam 0, rad
+    double increment;         // rad between beams
+  };
 
   // The check of one ray from `from` m along it on, leaping where the clearance allows by
   // `leap_unit` m per cell of clearance.
@@ -92,14 +96,6 @@ class ReflectionRemover {
   // Takes back one kept scan's evidence beyond revert_box_; returns the rays it checked and
   // replayed.
   size_t revertScan(KeptScan& kept, ScanInserter& inserter, ReflectanceField& field);
-
-  // A scan as inserted, kept for online re-processing.
-  struct KeptScan {
-    std::vector<Ray> rays;    // in beam order
-    Eigen::Vector2d origin;   // of every ray (the sensor, inside the window)
-    double first_beam_angle;  // world direction of beam 0, rad
-    double increment;         // rad between beams
-  };
 
   bool enabled_;
   double penetration_tolerance_;
