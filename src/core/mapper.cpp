@@ -79,6 +79,8 @@ struct Mapper::Impl {
   // Where the last scans put the region's centre: revertPartBehindNewGlass looks ahead from it.
   std::optional<Eigen::Vector2d> last_centre;
   Eigen::Vector2d last_step = Eigen::Vector2d::Zero();
+  // Where labelAddedScan judged arrivals since the classes last changed.
+  mutable ArrivalMarks arrivals;
 };
 
 Mapper::Mapper(const MapperOptions& options, const MapperLayout& layout)
@@ -272,6 +274,7 @@ MotionRemovalSummary Mapper::classifyActiveRegion() {
       impl_->classifier.classify(field_, impl_->anchor_history, map_, impl_->runner.get());
   const RegionClassifier& classifier = impl_->classifier;
   const CellBox new_glass = impl_->classes.replace(classifier.region(), impl_->runner.get());
+  impl_->arrivals.clear();  // the classes now judge those objects
   classifier.writeTo(field_.window(), map_);
   summary.new_glass = !new_glass.empty();
   if (summary.new_glass && options_.reflection_removal.reflection_removal_enabled) {
@@ -332,7 +335,8 @@ std::vector<RayLabel> Mapper::labelValidScan(const TimedScan& scan, bool final_m
   scanToRays(scan.scan, scan.sensor_pose, options_.insertion, rays);
   return labelRays(rays, scan.scan.ranges.size(), impl_->reflections, impl_->classes,
                    field_.activeBox(), field_.geometry(),
-                   options_.active_region.active_region_radius, final_map, checked, inserted);
+                   options_.active_region.active_region_radius, final_map, checked, inserted,
+                   inserted ? &impl_->arrivals : nullptr);
 }
 
 std::vector<RayLabel> Mapper::labelAddedScan(const TimedScan& scan,
@@ -371,6 +375,7 @@ void Mapper::forgetDerivedState() {
   impl_->anchor_history.clear();
   impl_->tick_due = false;
   impl_->classes.clear();
+  impl_->arrivals.clear();
   impl_->classifier.clear();
 }
 

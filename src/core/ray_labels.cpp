@@ -17,6 +17,14 @@ bool arrivedInFreeCell(const ReflectanceField& field, const Ray& beam, const Cel
   return field.value(cell, field.geometry().binOf(beam.angle)) < field.logOdds().hitStep();
 }
 
+bool arrivedInFirmlyFreeCell(const ReflectanceField& field, const Ray& beam,
+                             const CellIndex& cell) {
+  if (!field.inActiveRegion(cell)) return false;
+  const LogOddsModel& log_odds = field.logOdds();
+  return field.value(cell, field.geometry().binOf(beam.angle)) <=
+         log_odds.minValue() + log_odds.hitStep();
+}
+
 bool passesThroughCell(const Ray& ray, const CellIndex& cell, const GridGeometry& geometry) {
   const Eigen::Vector2d path = ray.end - ray.origin;
   const double length = path.norm();
@@ -34,7 +42,7 @@ std::vector<RayLabel> labelRays(const std::vector<Ray>& rays, size_t beams,
                                 const CellBox& window_box, const GridGeometry& geometry,
                                 double evidence_range, bool final_map,
                                 const std::vector<uint8_t>* checked_beams,
-                                const ReflectanceField* inserted) {
+                                const ReflectanceField* inserted, ArrivalMarks* arrivals) {
   std::vector<RayLabel> labels(beams, RayLabel::kNoReturn);
   // The reflection check of every hit ray first, side by side (passThroughDistances).
   std::vector<Ray> checked;
@@ -61,9 +69,13 @@ std::vector<RayLabel> labelRays(const std::vector<Ray>& rays, size_t beams,
     return (a == b + 1 || b == a + 1) && passesThroughCell(rays[other], cell, geometry);
   };
   auto arrived = [&](const CellIndex& cell) {
-    if (!inserted || !arrivedInFreeCell(*inserted, rays[index], cell)) return false;
+    if (!inserted) return false;
+    if (arrivals && arrivals->nearMarked(cell)) return true;
+    if (!arrivedInFreeCell(*inserted, rays[index], cell)) return false;
     if (index > 0 && beside_passes(index - 1, cell)) return false;
-    return !(index + 1 < rays.size() && beside_passes(index + 1, cell));
+    if (index + 1 < rays.size() && beside_passes(index + 1, cell)) return false;
+    if (arrivals && arrivedInFirmlyFreeCell(*inserted, rays[index], cell)) arrivals->mark(cell);
+    return true;
   };
   size_t next_checked = 0;
   for (; index < rays.size(); ++index) {

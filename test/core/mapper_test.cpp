@@ -413,11 +413,11 @@ LiveLabels addAndLabel(Mapper& mapper, const SyntheticWorld& world, const Pose2D
 // A room the robot, standing at the origin, has watched empty for a second, motion removal run:
 // its floor is free, seen free from where the robot stands.
 struct WatchedEmptyRoom {
-  WatchedEmptyRoom() : mapper(testing::scenarioOptions()) {
+  explicit WatchedEmptyRoom(int scans_watched = 40) : mapper(testing::scenarioOptions()) {
     world.addWall({5.0, -3.0}, {5.0, 3.0});
     world.addWall({-1.0, 3.0}, {5.0, 3.0});
     world.addWall({-1.0, -3.0}, {5.0, -3.0});
-    for (int i = 0; i < 40; ++i)
+    for (int i = 0; i < scans_watched; ++i)
       look();
     mapper.removeMotion();
   }
@@ -451,6 +451,50 @@ TEST(Mapper, LiveLabelsRemoveSomeoneSteppingIntoFloorSeenEmpty) {
   // The silhouette's two edge beams stay: the beam beside each went on through its end cell.
   EXPECT_GE(person_removed, person - 2);
   EXPECT_EQ(wall_kept, wall);
+}
+
+// Someone who stepped into floor seen empty stays in their cells for several scans, whose hits
+// fill the bins that said the floor was free: the arrival judged at their first returns holds
+// for the returns that follow there, until motion removal judges them.
+TEST(Mapper, LiveLabelsKeepRemovingSomeoneWhoStaysWhereTheyArrived) {
+  WatchedEmptyRoom room;
+  room.world.people = {{{2.5, 0.0}, 0.25}};
+  for (int scan = 0; scan < 10; ++scan) {
+    const LiveLabels seen = room.look();
+    int person = 0, person_removed = 0;
+    for (size_t i = 0; i < seen.labels.size(); ++i) {
+      if (!(seen.scan.scan.ranges[i] < 2.9)) continue;  // the walls are 3 m away or more
+      ++person;
+      person_removed += seen.labels[i] == RayLabel::kMotion;
+    }
+    ASSERT_GT(person, 10);
+    EXPECT_GE(person_removed, person - 2) << "scan " << scan;
+  }
+}
+
+// Floor seen free in only a few scans, as the cells of a pane are between the returns of its
+// moving return cone, does not carry an arrival on: each scan's returns are judged afresh, and
+// once the cell's bin holds their hits they stay kept until motion removal judges them.
+TEST(Mapper, LiveLabelsJudgeAfreshWhereTheFloorWasSeenFreeOnlyBriefly) {
+  WatchedEmptyRoom room(2);
+  const GridGeometry& g = room.mapper.field().geometry();
+  ASSERT_EQ(room.mapper.cellClass(g.cellOf({2.3, 0.0})), CellClass::kFree);
+  room.world.people = {{{2.5, 0.0}, 0.25}};
+  std::vector<int> removed;
+  int person = 0;
+  for (int scan = 0; scan < 3; ++scan) {
+    const LiveLabels seen = room.look();
+    person = 0;
+    removed.push_back(0);
+    for (size_t i = 0; i < seen.labels.size(); ++i) {
+      if (!(seen.scan.scan.ranges[i] < 2.9)) continue;
+      ++person;
+      removed.back() += seen.labels[i] == RayLabel::kMotion;
+    }
+  }
+  ASSERT_GT(person, 10);
+  EXPECT_GE(removed[0], person - 2);  // an arrival: the bins said free
+  EXPECT_EQ(removed[2], 0);           // the bins hold two hits each
 }
 
 // A pane the robot has only looked through obliquely (at the wall behind it) is free in the

@@ -155,7 +155,9 @@ class Mapper {
   // the insertion checked is not checked again (the check read the same classes; only the
   // scan's own evidence, inserted since, could move a static cell's directions). A return in a
   // cell last classified free, where the field had seen it free in the beam's direction before
-  // (a person stepping into open floor), is MOTION before motion removal sees the person move.
+  // (a person stepping into open floor), is MOTION before motion removal sees the person move,
+  // and so are the returns of the scans after it in that cell or beside it until the next
+  // classification (ArrivalMarks): labels depend on the scans labelled before them since then.
   std::vector<RayLabel> labelAddedScan(const TimedScan& scan, const ScanUpdate& update) const;
   // labelScan of the scans [first, last), on the mapper's threads.
   std::vector<std::vector<RayLabel>> labelScans(ScanIterator first, ScanIterator last,

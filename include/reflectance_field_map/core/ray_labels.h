@@ -3,6 +3,7 @@
 #pragma once
 
 #include "reflectance_field_map/core/active_classes.h"
+#include "reflectance_field_map/core/arrival_marks.h"
 #include "reflectance_field_map/core/cell_class.h"
 #include "reflectance_field_map/core/global_map.h"
 #include "reflectance_field_map/core/grid_geometry.h"
@@ -57,6 +58,11 @@ RayLabel labelEndpoint(const Ray& beam, const GridGeometry& geometry, double evi
 // crossed it in (a pane near its normal, seen through only from elsewhere) is not one.
 bool arrivedInFreeCell(const ReflectanceField& field, const Ray& beam, const CellIndex& cell);
 
+// Whether that return met a bin at the lower clamp: the cell was seen free firmly in the beam's
+// direction (five misses and more at the defaults), not glimpsed free between returns, as the
+// cells of a pane at the edge of its return cone are while the cone moves along it.
+bool arrivedInFirmlyFreeCell(const ReflectanceField& field, const Ray& beam, const CellIndex& cell);
+
 // Whether `ray` goes on through `cell`: its line passes within half a cell's diagonal of the
 // cell's centre, ahead of its origin and short of its last cell.
 bool passesThroughCell(const Ray& ray, const CellIndex& cell, const GridGeometry& geometry);
@@ -67,12 +73,16 @@ bool passesThroughCell(const Ray& ray, const CellIndex& cell, const GridGeometry
 // beams without a return. Beams marked in `checked_beams` (by beam; null or empty: none) skip
 // the reflection check: the caller already knows its answer for them. `inserted` (live: the field
 // that holds these rays' hits; null: none) judges returns in free cells: an arrival when
-// arrivedInFreeCell and neither neighbouring beam of the scan passesThroughCell.
+// arrivedInFreeCell and neither neighbouring beam of the scan passesThroughCell. With `arrivals`
+// (may be null) such an arrival is marked there when arrivedInFirmlyFreeCell, and a return in a
+// free cell at or beside a marked one is an arrival too: the same object, whose earlier hits
+// filled the bin.
 std::vector<RayLabel> labelRays(const std::vector<Ray>& rays, size_t beams,
                                 const ReflectionRemover& reflections, const ActiveClasses& classes,
                                 const CellBox& window_box, const GridGeometry& geometry,
                                 double evidence_range, bool final_map,
                                 const std::vector<uint8_t>* checked_beams = nullptr,
-                                const ReflectanceField* inserted = nullptr);
+                                const ReflectanceField* inserted = nullptr,
+                                ArrivalMarks* arrivals = nullptr);
 
 }  // namespace rfm
