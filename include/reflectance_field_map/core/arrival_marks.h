@@ -17,8 +17,6 @@ namespace rfm {
 class ArrivalMarks {
  public:
   void clear() { cells_.clear(); }
-  bool empty() const { return cells_.empty(); }
-  size_t size() const { return cells_.size(); }
   void mark(const CellIndex& cell) { cells_.insert(key(cell.x(), cell.y())); }
   // Whether the cell or one of its 8 neighbours is marked.
   bool nearMarked(const CellIndex& cell) const {
