@@ -10,19 +10,24 @@ namespace {
 // A line within this many cells of a cell's centre may cross the cell.
 constexpr double kHalfCellDiagonal = 0.7071067811865476;
 
+// Whether the cell lies in the active region and its bin in the beam's direction, this return's
+// hit included, is at most `limit`.
+bool beamBinAtMost(const ReflectanceField& field, const Ray& beam, const CellIndex& cell,
+                   int limit) {
+  return field.inActiveRegion(cell) &&
+         field.value(cell, field.geometry().binOf(beam.angle)) <= limit;
+}
+
 }  // namespace
 
 bool arrivedInFreeCell(const ReflectanceField& field, const Ray& beam, const CellIndex& cell) {
-  if (!field.inActiveRegion(cell)) return false;
-  return field.value(cell, field.geometry().binOf(beam.angle)) < field.logOdds().hitStep();
+  return beamBinAtMost(field, beam, cell, field.logOdds().hitStep() - 1);
 }
 
 bool arrivedInFirmlyFreeCell(const ReflectanceField& field, const Ray& beam,
                              const CellIndex& cell) {
-  if (!field.inActiveRegion(cell)) return false;
   const LogOddsModel& log_odds = field.logOdds();
-  return field.value(cell, field.geometry().binOf(beam.angle)) <=
-         log_odds.minValue() + log_odds.hitStep();
+  return beamBinAtMost(field, beam, cell, log_odds.minValue() + log_odds.hitStep());
 }
 
 bool passesThroughCell(const Ray& ray, const CellIndex& cell, const GridGeometry& geometry) {
