@@ -151,10 +151,17 @@ size_t ReflectanceField::activeBytes() const {
 }
 
 void ReflectanceField::clear() {
-  // Fresh zero pages instead of writing zeros over the old ones (100 MB for a batch's window, on
-  // one thread): they fault in where the next insertions reach, on the inserting threads.
-  bins_ = ZeroedHugeArray<int8_t>(bins_.size(), bins_.pages());
-  reflective_masks_ = ZeroedHugeArray<uint64_t>(reflective_masks_.size(), bins_.pages());
+  // Zeros written in place, over the tiles that hold evidence only. Fresh pages would have to be
+  // faulted in again by the next batch pass, and the kernel's zeroing (and compaction, for huge
+  // pages) of a whole window per pass cost a sparse recording more than its rays. Tiles no ray
+  // reached are not touched: a large window's unreached pages stay unmapped.
+  const size_t cells = static_cast<size_t>(window_.tileCells()) * window_.tileCells();
+  for (size_t first = 0; first < plane_; first += cells) {
+    if (!slotsHoldEvidence(first, cells)) continue;
+    for (int bin = 0; bin < theta_bins_; ++bin)
+      std::fill_n(&bins_[bin * plane_ + first], cells, 0);
+    std::fill_n(&reflective_masks_[first * mask_words_], cells * mask_words_, 0);
+  }
   std::fill(missed_bins_.begin(), missed_bins_.end(), 0);
   std::fill(hit_since_tick_.begin(), hit_since_tick_.end(), 0);
   std::fill(confident_miss_since_tick_.begin(), confident_miss_since_tick_.end(), 0);
@@ -187,8 +194,12 @@ void ReflectanceField::scatterTile(const TileIndex& tile, const std::vector<int8
 
 bool ReflectanceField::tileHoldsEvidence(const TileIndex& tile) const {
   const size_t cells = static_cast<size_t>(window_.tileCells()) * window_.tileCells();
-  const size_t first = window_.tileFirstSlot(tile);
-  for (size_t slot = first; slot < first + cells; ++slot) {
+  return slotsHoldEvidence(window_.tileFirstSlot(tile), cells);
+}
+
+bool ReflectanceField::slotsHoldEvidence(size_t first, size_t count) const {
+  // The cell summaries count every bin off the prior (reflective above it, missed below).
+  for (size_t slot = first; slot < first + count; ++slot) {
     if (reflective_bins_[slot] != 0 || missed_bins_[slot] != 0) return true;
   }
   return false;

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdlib>
+#include <fstream>
 #include <map>
 #include <random>
 #include <utility>
@@ -276,6 +277,35 @@ TEST(ZeroedHugeArray, PrefaultMakesEveryPageResidentAndKeepsTheZeros) {
   array.prefault();
   EXPECT_GE(residentBytes(array.data(), array.size()), array.size());
   EXPECT_EQ(std::count(array.begin(), array.end(), 0), static_cast<long>(array.size()));
+}
+
+// Bytes the process has resident (/proc/self/statm).
+size_t residentProcessBytes() {
+  std::ifstream statm("/proc/self/statm");
+  size_t total_pages = 0, resident_pages = 0;
+  statm >> total_pages >> resident_pages;
+  return resident_pages * static_cast<size_t>(sysconf(_SC_PAGESIZE));
+}
+
+// clear() zeroes in place only the tiles that hold evidence: a large offline window's slices,
+// mostly never reached, are not brought in by the batch's passes.
+TEST(ReflectanceField, ClearZeroesOnlyWhereEvidenceWas) {
+  // 127 tiles a side: 709 MiB of slices on ordinary pages.
+  ReflectanceField site{GridOptions(), LogOddsOptions(), ActiveRegionOptions(), 50.0};
+  site.recenter({0.0, 0.0});
+  const CellIndex hit_cell(3, 4), missed_cell(400, -300);  // in different tiles
+  for (int bin : {0, 90, 179}) {
+    site.applyHit(hit_cell, bin);
+    site.applyMiss(missed_cell, bin);
+  }
+  const size_t resident_before = residentProcessBytes();
+  site.clear();
+  EXPECT_LT(residentProcessBytes(), resident_before + (size_t{64} << 20));
+  site.recenter({0.0, 0.0});
+  for (int bin = 0; bin < 180; ++bin) {
+    EXPECT_EQ(site.value(hit_cell, bin), 0) << bin;
+    EXPECT_EQ(site.value(missed_cell, bin), 0) << bin;
+  }
 }
 #endif
 

@@ -233,8 +233,8 @@ class ReflectanceField {
   size_t archivedTiles() const { return archive_.tileCount(); }
   const TileArchive& archive() const { return archive_; }
 
-  // Forgets everything (active and archived). The slices' and masks' pages are fresh: they fault
-  // in where insertions reach them, unless prefault() brings them in first.
+  // Forgets everything (active and archived). The slices' and masks' pages stay as they are,
+  // zeroed where evidence was: those never reached stay unmapped until insertions reach them.
   void clear();
   // Faults the slices' and masks' pages in now (a live mapper: its first scans must not wait
   // for them).
@@ -270,6 +270,8 @@ class ReflectanceField {
   void archiveTiles(const std::vector<TileIndex>& tiles, ParallelRunner* runner);
   void restoreTiles(const std::vector<TileIndex>& tiles, ParallelRunner* runner);
   bool tileHoldsEvidence(const TileIndex& tile) const;
+  // Whether any of the `count` storage slots from `first` holds a bin off the prior.
+  bool slotsHoldEvidence(size_t first, size_t count) const;
   // Clears the tile's cell summaries, and its bins too unless they are known to be clear.
   void clearTileStorage(const TileIndex& tile, bool bins_too);
   // Recomputes the summaries of a tile just restored into storage (cleared before).
