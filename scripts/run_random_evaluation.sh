@@ -105,7 +105,7 @@ for setup in $SETUPS; do
     echo "== $setup, seed $seed: RFM_live"
     mkdir -p "$dir/RFM_live"
     rosrun reflectance_field_map rfm_live_labels "$dir/sim.bag" "$dir/RFM_live/labels.bag" \
-      --scan-topics "$topics" --fixed-frame "$FIXED_FRAME" \
+      --scan-topics "$topics" --fixed-frame "$FIXED_FRAME" --classes-log "$dir/RFM_live/classes.bin" \
       > "$dir/RFM_live.log" 2>&1 || { cat "$dir/RFM_live.log" >&2; exit 1; }
     rosrun reflectance_field_map rfm_eval --truth "$dir/sim.bag" --labels "$dir/RFM_live/labels.bag" \
       --out "$dir/RFM_live/eval" > "$dir/RFM_live/eval.log"
@@ -158,6 +158,17 @@ rosrun reflectance_field_map rfm_eval --report "$MANIFEST" --out "$REPORT" --pre
   echo "motion beams."
   echo
   python3 "$REPO/scripts/kept_motion.py" "$OUT" RFM plain_grid RFM_live
+  echo
+  echo "## Reflections kept live: panes not yet faced"
+  echo
+  echo "\`scripts/live_reflection_gap.py\` takes the reflection beams that the offline map removes as"
+  echo "reflections and the live labels keep, finds the first cell on each that the offline map draws"
+  echo "glass or metal, and looks up what the live map held there at the last motion-removal pass"
+  echo "before the beam's scan (\`rfm_live_labels --classes-log\`). A pane returns only near its normal:"
+  echo "until the robot faces it, the live map holds free space there, and no labeller that judges a"
+  echo "scan when it arrives can cut the beams through it. Every 5th such beam scored; shares of those."
+  echo
+  python3 "$REPO/scripts/live_reflection_gap.py" "$OUT"
 } >> "$REPORT"
 cat "$SCENES" >> "$REPORT"
 echo "== wrote $REPORT"
