@@ -28,6 +28,8 @@ import numpy as np
 import rosbag
 import yaml
 
+from sim_bag_io import compose, read_labels, read_transforms_and_truth
+
 MOTION = 4  # RayTruth.MOTION
 KEPT = 1  # RayLabels.KEPT
 NEAREST_PERSON = 0.7  # m
@@ -85,40 +87,13 @@ class Person:
         return None
 
 
-def yaw_of(q):
-    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
-
-
-def compose(a, b):
-    c, s = math.cos(a[2]), math.sin(a[2])
-    return (a[0] + c * b[0] - s * b[1], a[1] + s * b[0] + c * b[1], a[2] + b[2])
-
-
 def read_scans(bag_path):
     """Every scan with its sensor's true pose (map frame) and its truth, in bag order, and the
     stamp of scene time 0 (the bag's start)."""
-    chains = {("map", "odom"): [], ("odom", "base_link"): []}
-    mounts, truth, scans = {}, {}, []
+    chains, mounts, truth = read_transforms_and_truth(
+        bag_path, [("map", "odom"), ("odom", "base_link")])
+    scans = []
     with rosbag.Bag(bag_path) as bag:
-        for topic, msg, _ in bag.read_messages(topics=["/tf", "/tf_static", "/sim/ray_truth"]):
-            if topic == "/sim/ray_truth":
-                truth[(msg.scan_topic, msg.header.stamp.to_nsec())] = np.frombuffer(
-                    msg.classes, dtype=np.uint8)
-                continue
-            for tf in msg.transforms:
-                pose = (tf.transform.translation.x, tf.transform.translation.y,
-                        yaw_of(tf.transform.rotation))
-                if topic == "/tf_static":
-                    mounts[tf.child_frame_id] = pose
-                elif (tf.header.frame_id, tf.child_frame_id) in chains:
-                    chains[(tf.header.frame_id, tf.child_frame_id)].append(
-                        (tf.header.stamp.to_sec(), pose))
-        stamps = {k: np.array([s for s, _ in v]) for k, v in chains.items()}
-
-        def lookup(key, stamp):
-            i = min(int(np.searchsorted(stamps[key], stamp)), len(chains[key]) - 1)
-            return chains[key][i][1]
-
         origin = bag.get_start_time()
         for topic, msg, _ in bag.read_messages():
             if not hasattr(msg, "ranges"):
@@ -127,8 +102,8 @@ def read_scans(bag_path):
             if key not in truth:
                 continue
             stamp = msg.header.stamp.to_sec()
-            pose = compose(compose(lookup(("map", "odom"), stamp),
-                                   lookup(("odom", "base_link"), stamp)),
+            pose = compose(compose(chains[("map", "odom")].at(stamp),
+                                   chains[("odom", "base_link")].at(stamp)),
                            mounts[msg.header.frame_id])
             ranges = np.nan_to_num(np.array(msg.ranges), posinf=NO_RETURN)
             angles = pose[2] + msg.angle_min + msg.angle_increment * np.arange(len(ranges))
@@ -162,15 +137,6 @@ def seen_through(scans, person, spot, after, origin):
             return "left, seen by a return"
         seen = "left, seen without a return"
     return seen
-
-
-def read_labels(path):
-    labels = {}
-    with rosbag.Bag(path) as bag:
-        for _, msg, _ in bag.read_messages():
-            labels[(msg.scan_topic, msg.header.stamp.to_nsec())] = np.frombuffer(
-                msg.labels, dtype=np.uint8)
-    return labels
 
 
 def classify_run(directory, mappers):

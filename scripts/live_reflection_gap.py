@@ -27,6 +27,8 @@ import sys
 import numpy as np
 import rosbag
 
+from sim_bag_io import compose, read_labels, read_transforms_and_truth
+
 REFLECTION_TRUTH = 5
 KEPT, REFLECTION_LABEL = 1, 3
 STATIC, GLASS, METAL = 2, 3, 4
@@ -34,15 +36,6 @@ CLASS_NAMES = {0: "unknown", 1: "free", 2: "static", 3: "glass", 4: "metal", 5: 
                6: "occupied"}
 OBSTACLES = (STATIC, GLASS, METAL)
 NEVER = math.inf
-
-
-def yaw_of(q):
-    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
-
-
-def compose(a, b):
-    c, s = math.cos(a[2]), math.sin(a[2])
-    return (a[0] + c * b[0] - s * b[1], a[1] + s * b[0] + c * b[1], a[2] + b[2])
 
 
 def read_offline_classes(directory):
@@ -86,32 +79,8 @@ def read_classes_log(path):
 
 def read_scans(bag_path, live_path, offline_path):
     """Each scan's sensor pose in odom, its truth and both label arrays."""
-    odom, mounts, truth = [], {}, {}
-    with rosbag.Bag(bag_path) as bag:
-        for topic, msg, _ in bag.read_messages(topics=["/tf", "/tf_static", "/sim/ray_truth"]):
-            if topic == "/sim/ray_truth":
-                truth[(msg.scan_topic, msg.header.stamp.to_nsec())] = np.frombuffer(
-                    msg.classes, dtype=np.uint8)
-                continue
-            for tf in msg.transforms:
-                pose = (tf.transform.translation.x, tf.transform.translation.y,
-                        yaw_of(tf.transform.rotation))
-                if topic == "/tf_static":
-                    mounts[tf.child_frame_id] = pose
-                elif (tf.header.frame_id, tf.child_frame_id) == ("odom", "base_link"):
-                    odom.append((tf.header.stamp.to_sec(), pose))
-    odom.sort()
-    odom_stamps = [s for s, _ in odom]
-
-    def labels_of(path):
-        labels = {}
-        with rosbag.Bag(path) as bag:
-            for _, msg, _ in bag.read_messages():
-                labels[(msg.scan_topic, msg.header.stamp.to_nsec())] = np.frombuffer(
-                    msg.labels, dtype=np.uint8)
-        return labels
-
-    live, offline = labels_of(live_path), labels_of(offline_path)
+    chains, mounts, truth = read_transforms_and_truth(bag_path, [("odom", "base_link")])
+    live, offline = read_labels(live_path), read_labels(offline_path)
     scans = []
     with rosbag.Bag(bag_path) as bag:
         for topic, msg, _ in bag.read_messages():
@@ -121,8 +90,8 @@ def read_scans(bag_path, live_path, offline_path):
             if key not in truth or key not in live or key not in offline:
                 continue
             stamp = msg.header.stamp.to_sec()
-            i = min(bisect.bisect_left(odom_stamps, stamp), len(odom) - 1)
-            pose = compose(odom[i][1], mounts.get(msg.header.frame_id, (0.0, 0.0, 0.0)))
+            pose = compose(chains[("odom", "base_link")].at(stamp),
+                           mounts.get(msg.header.frame_id, (0.0, 0.0, 0.0)))
             scans.append({"stamp": stamp, "pose": pose, "angle_min": msg.angle_min,
                           "increment": msg.angle_increment, "ranges": np.array(msg.ranges),
                           "truth": truth[key], "live": live[key], "offline": offline[key]})
