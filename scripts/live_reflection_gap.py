@@ -155,8 +155,10 @@ def score_run(directory, offline_name, live_name, every):
             lx, ly = gx + offset[0] - min_x, gy + offset[1] - min_y
             if not (0 <= lx < cells.shape[1] and 0 <= ly < cells.shape[0]):
                 counts["before the first pass, or outside the window"] += 1
-            elif cells[ly, lx] in OBSTACLES:
-                counts["an obstacle live"] += 1
+            elif cells[ly, lx] == STATIC:
+                counts["static live"] += 1
+            elif cells[ly, lx] in (GLASS, METAL):
+                counts["glass or metal live"] += 1
             elif first_obstacle[gy, gx] < scan["stamp"]:
                 counts["an obstacle in an earlier pass"] += 1
             elif last_glass[gy, gx] > scan["stamp"]:
@@ -203,7 +205,7 @@ def main():
             row["reflections"] += total if name == "offline" else 0
             row["removed " + name] += removed
     columns = ["not yet drawn: glass or metal later", "an obstacle in an earlier pass",
-               "never glass or metal live", "an obstacle live",
+               "never glass or metal live", "static live", "glass or metal live",
                "no glass or metal offline on the beam",
                "before the first pass, or outside the window"]
     print("| setup | seeds | reflections removed, offline / live (%) | removed offline as "
