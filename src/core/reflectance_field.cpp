@@ -151,16 +151,23 @@ size_t ReflectanceField::activeBytes() const {
 }
 
 void ReflectanceField::clear() {
-  // Zeros written in place, over the tiles that hold evidence only. Fresh pages would have to be
-  // faulted in again by the next batch pass, and the kernel's zeroing (and compaction, for huge
-  // pages) of a whole window per pass cost a sparse recording more than its rays. Tiles no ray
-  // reached are not touched: a large window's unreached pages stay unmapped.
-  const size_t cells = static_cast<size_t>(window_.tileCells()) * window_.tileCells();
-  for (size_t first = 0; first < plane_; first += cells) {
-    if (!slotsHoldEvidence(first, cells)) continue;
-    for (int bin = 0; bin < theta_bins_; ++bin)
-      std::fill_n(&bins_[bin * plane_ + first], cells, 0);
-    std::fill_n(&reflective_masks_[first * mask_words_], cells * mask_words_, 0);
+  if (bins_.pages() == PageKind::kOrdinary) {
+    // A large window: rays reach a few of each tile's slices, and most pages of the slices no
+    // ray reached are still unmapped. Fresh zero pages keep them so, where zeros written over
+    // every slice of each reached tile would bring them in (the campus: 2.8 against 1.5 GB).
+    bins_ = ZeroedHugeArray<int8_t>(bins_.size(), bins_.pages());
+    reflective_masks_ = ZeroedHugeArray<uint64_t>(reflective_masks_.size(), bins_.pages());
+  } else {
+    // Huge pages: the passes reach them nearly all. Zeros written in place over the tiles that
+    // hold evidence cost less than faulting the window in again for the next batch pass (the
+    // kernel zeroes, and compacts memory for, every huge page).
+    const size_t cells = static_cast<size_t>(window_.tileCells()) * window_.tileCells();
+    for (size_t first = 0; first < plane_; first += cells) {
+      if (!slotsHoldEvidence(first, cells)) continue;
+      for (int bin = 0; bin < theta_bins_; ++bin)
+        std::fill_n(&bins_[bin * plane_ + first], cells, 0);
+      std::fill_n(&reflective_masks_[first * mask_words_], cells * mask_words_, 0);
+    }
   }
   std::fill(missed_bins_.begin(), missed_bins_.end(), 0);
   std::fill(hit_since_tick_.begin(), hit_since_tick_.end(), 0);

@@ -287,9 +287,9 @@ size_t residentProcessBytes() {
   return resident_pages * static_cast<size_t>(sysconf(_SC_PAGESIZE));
 }
 
-// clear() zeroes in place only the tiles that hold evidence: a large offline window's slices,
-// mostly never reached, are not brought in by the batch's passes.
-TEST(ReflectanceField, ClearZeroesOnlyWhereEvidenceWas) {
+// clear() brings in no page that no ray reached: a large offline window's slices, mostly never
+// reached, stay unmapped through the batch's passes.
+TEST(ReflectanceField, ClearBringsInNoUnreachedPages) {
   // 127 tiles a side: 709 MiB of slices on ordinary pages.
   ReflectanceField site{GridOptions(), LogOddsOptions(), ActiveRegionOptions(), 50.0};
   site.recenter({0.0, 0.0});

@@ -233,8 +233,9 @@ class ReflectanceField {
   size_t archivedTiles() const { return archive_.tileCount(); }
   const TileArchive& archive() const { return archive_; }
 
-  // Forgets everything (active and archived). The slices' and masks' pages stay as they are,
-  // zeroed where evidence was: those never reached stay unmapped until insertions reach them.
+  // Forgets everything (active and archived). Huge pages are zeroed in place where evidence
+  // was; ordinary pages (a large window) are replaced by fresh ones. Either way pages no ray
+  // reached stay unmapped until insertions reach them, unless prefault() brings them in.
   void clear();
   // Faults the slices' and masks' pages in now (a live mapper: its first scans must not wait
   // for them).
