@@ -39,7 +39,7 @@ NEVER = math.inf
 
 
 def read_offline_classes(directory):
-    """classes.pgm (bottom row first, as map_server) and its origin and resolution."""
+    """classes.pgm with row 0 at the map's origin (y up), the origin (m) and the resolution."""
     meta = {}
     for line in open(directory + "/map.yaml"):
         key, _, value = line.partition(":")
@@ -69,7 +69,8 @@ def read_classes_log(path):
                 break
             stamp, min_x, min_y, width, height = struct.unpack("=diiii", header)
             if width < 0 or height < 0 or width * height > 1 << 28:
-                sys.exit("live_reflection_gap.py: %s: a pass's box is %d x %d" % (path, width, height))
+                sys.exit("live_reflection_gap.py: %s: a pass's box is %d x %d" %
+                         (path, width, height))
             cells = np.frombuffer(log.read(width * height), dtype=np.uint8)
             if cells.size != width * height:
                 sys.exit("live_reflection_gap.py: %s ends inside a pass" % path)
