@@ -185,7 +185,11 @@ def main():
         sys.exit("live_reflection_gap.py: --every must be >= 1")
     runs = {}  # (setup, seed) -> split, of the scenes with both runs
     configs = collections.defaultdict(set)
-    with open(os.path.join(args.out, "manifest.txt")) as manifest:
+    manifest_path = os.path.join(args.out, "manifest.txt")
+    if not os.path.exists(manifest_path):
+        sys.exit("live_reflection_gap.py: %s not found: OUT is scripts/run_random_evaluation.sh's"
+                 % manifest_path)
+    with open(manifest_path) as manifest:
         for line in manifest:
             config, seed, _, setup, split = line.split()
             runs[(setup, seed)] = split
