@@ -5,8 +5,8 @@
 
 OUT is scripts/run_random_evaluation.sh's scratch directory: per scene OUT/SETUP/SEED holds
 sim.bag, the offline map (OUT/.../RFM: rfm_offline) and the live labels (OUT/.../RFM_live:
-labels.bag, and classes.bin from rfm_live_labels --classes-log, the classes each
-motion-removal pass left). For every reflection beam (simulator truth) that the offline map
+labels.bag, and classes.bin or classes.bin.gz from rfm_live_labels --classes-log, the classes
+each motion-removal pass left). For every reflection beam (simulator truth) that the offline map
 labels REFLECTION and the live labels keep, it finds the first cell on the beam that the offline
 map draws glass or metal (where the offline map cut it), and what the live map held there at the
 last pass before the beam's scan. A cut cell the live map had never drawn as an obstacle before
@@ -18,6 +18,7 @@ markdown table per setup and split (beams summed over the seeds); every Nth such
 import argparse
 import bisect
 import collections
+import gzip
 import json
 import math
 import os
@@ -60,9 +61,10 @@ def read_offline_classes(directory):
 
 
 def read_classes_log(path):
-    """The passes of rfm_live_labels --classes-log: (stamp, min x, min y, classes[y][x])."""
+    """The passes of rfm_live_labels --classes-log (gzipped when the name ends in .gz):
+    (stamp, min x, min y, classes[y][x])."""
     passes = []
-    with open(path, "rb") as log:
+    with (gzip.open if path.endswith(".gz") else open)(path, "rb") as log:
         while True:
             header = log.read(24)
             if len(header) < 24:
@@ -99,13 +101,21 @@ def read_scans(bag_path, live_path, offline_path):
     return scans
 
 
+def classes_log_of(live_dir):
+    """The run's classes log, gzipped or not; None when it has none."""
+    for name in ("classes.bin.gz", "classes.bin"):
+        if os.path.exists(os.path.join(live_dir, name)):
+            return os.path.join(live_dir, name)
+    return None
+
+
 def score_run(directory, offline_name, live_name, every):
     """Counts of the scored beams by what the live map held at the offline map's cut."""
     offline_dir = os.path.join(directory, offline_name)
     live_dir = os.path.join(directory, live_name)
     classes, origin, resolution = read_offline_classes(offline_dir)
     height, width = classes.shape
-    passes = read_classes_log(os.path.join(live_dir, "classes.bin"))
+    passes = read_classes_log(classes_log_of(live_dir))
     pass_stamps = [p[0] for p in passes]
     # Per cell of the offline map: when the live map first drew it an obstacle, and when it last
     # drew it glass or metal (pass stamps).
@@ -199,7 +209,7 @@ def main():
         directory = os.path.join(args.out, setup, seed)
         if not {args.offline, args.live} <= configs[(setup, seed)]:
             continue
-        if not os.path.exists(os.path.join(directory, args.live, "classes.bin")):
+        if classes_log_of(os.path.join(directory, args.live)) is None:
             continue
         row = rows.setdefault((setup, split), collections.Counter())
         row["seeds"] += 1

@@ -105,8 +105,10 @@ for setup in $SETUPS; do
     echo "== $setup, seed $seed: RFM_live"
     mkdir -p "$dir/RFM_live"
     rosrun reflectance_field_map rfm_live_labels "$dir/sim.bag" "$dir/RFM_live/labels.bag" \
-      --scan-topics "$topics" --fixed-frame "$FIXED_FRAME" --classes-log "$dir/RFM_live/classes.bin" \
+      --scan-topics "$topics" --fixed-frame "$FIXED_FRAME" \
+      --classes-log "$dir/RFM_live/classes.bin" \
       > "$dir/RFM_live.log" 2>&1 || { cat "$dir/RFM_live.log" >&2; exit 1; }
+    gzip -f "$dir/RFM_live/classes.bin"  # a fiftieth: the classes are runs of a few values
     rosrun reflectance_field_map rfm_eval --truth "$dir/sim.bag" --labels "$dir/RFM_live/labels.bag" \
       --out "$dir/RFM_live/eval" > "$dir/RFM_live/eval.log"
     echo "RFM_live $seed $dir/RFM_live/eval.json $setup $split" >> "$MANIFEST"
