@@ -288,7 +288,8 @@ size_t residentProcessBytes() {
 }
 
 // clear() brings in no page that no ray reached: a large offline window's slices, mostly never
-// reached, stay unmapped through the batch's passes.
+// reached, stay unmapped through the batch's passes, even where rays reached the tile in other
+// directions (the campus: each reached tile is reached in a few of its 180 slices).
 TEST(ReflectanceField, ClearBringsInNoUnreachedPages) {
   // 127 tiles a side: 709 MiB of slices on ordinary pages.
   ReflectanceField site{GridOptions(), LogOddsOptions(), ActiveRegionOptions(), 50.0};
@@ -297,6 +298,12 @@ TEST(ReflectanceField, ClearBringsInNoUnreachedPages) {
   for (int bin : {0, 90, 179}) {
     site.applyHit(hit_cell, bin);
     site.applyMiss(missed_cell, bin);
+  }
+  // One direction in each of 40 x 127 tiles: their other slices' pages (over 200 MiB) unreached.
+  const int tile_cells = GridOptions().tile_cells;
+  for (int ty = -20; ty < 20; ++ty) {
+    for (int tx = -63; tx <= 63; ++tx)
+      site.applyHit({tx * tile_cells, ty * tile_cells}, 45);
   }
   const size_t resident_before = residentProcessBytes();
   site.clear();
