@@ -291,7 +291,7 @@ MotionRemovalSummary Mapper::classifyActiveRegion() {
 }
 
 void Mapper::revertBehindNewGlass() {
-  revertPartBehindNewGlass(std::numeric_limits<size_t>::max());
+  revertPartBehindNewGlass(std::numeric_limits<size_t>::max(), 1);
 }
 
 void Mapper::revertPartBehindNewGlass() {
@@ -299,25 +299,40 @@ void Mapper::revertPartBehindNewGlass() {
   // A quarter to half of a live scan's own work (0.3 ms on the atrium), so that a replay at 10x
   // (a scan every 1.25 ms) keeps up; a pass's revert then takes about ten scans.
   constexpr size_t kRaysPerPart = 1024;
-  // What is pending when the region moves runs whole inside the scan that moves it. When the
-  // robot is this close to moving it (0.2 s at 1 m/s, the time the parts take), the rest runs
-  // now, between scans.
-  constexpr double kLookAhead = 0.2;  // m, along the last step
+  // The kept scans refer to the window: what is still pending when the region moves runs whole
+  // inside the scan that moves it (up to 20 ms on the atrium). So the parts grow to finish it
+  // within half the scans that the robot, going on as over the last scan, takes to move it.
+  const size_t pending = impl_->reflections.scansPendingRevert();
+  const size_t scans_left = scansUntilRegionMoves(2 * pending);
+  const size_t parts_left = std::max<size_t>(scans_left / 2, 1);
+  revertPartBehindNewGlass(kRaysPerPart, (pending + parts_left - 1) / parts_left);
+}
+
+size_t Mapper::scansUntilRegionMoves(size_t limit) const {
   const Eigen::Vector2d& step = impl_->last_step;
-  const bool moves_soon =
-      impl_->last_centre && step.squaredNorm() > 0.0 &&
-      field_.wouldRecenter(*impl_->last_centre + kLookAhead * step.normalized());
-  revertPartBehindNewGlass(moves_soon ? std::numeric_limits<size_t>::max() : kRaysPerPart);
+  if (!impl_->last_centre || step.squaredNorm() == 0.0) return limit + 1;
+  const Eigen::Vector2d& centre = *impl_->last_centre;
+  if (field_.wouldRecenter(centre)) return 0;
+  if (!field_.wouldRecenter(centre + static_cast<double>(limit) * step)) return limit + 1;
+  // Along a straight line the robot leaves the centre tile once: the first step count that
+  // moves the region, by bisection.
+  size_t stays = 0, moves = limit;
+  while (moves - stays > 1) {
+    const size_t middle = stays + (moves - stays) / 2;
+    (field_.wouldRecenter(centre + static_cast<double>(middle) * step) ? moves : stays) = middle;
+  }
+  return moves;
 }
 
 bool Mapper::revertPending() const {
   return impl_->reflections.revertPending();
 }
 
-void Mapper::revertPartBehindNewGlass(size_t ray_budget) {
+void Mapper::revertPartBehindNewGlass(size_t ray_budget, size_t min_scans) {
   if (!impl_->reflections.revertPending()) return;
   const auto start = std::chrono::steady_clock::now();
-  impl_->stats.reverted_scans += impl_->reflections.revertSome(ray_budget, impl_->inserter, field_);
+  impl_->stats.reverted_scans +=
+      impl_->reflections.revertSome(ray_budget, min_scans, impl_->inserter, field_);
   impl_->stats.last_motion_removal_ms += millisecondsSince(start);
 }
 

@@ -266,11 +266,11 @@ void ReflectionRemover::startRevert(const CellBox& new_glass) {
   revert_pending_ = buffer_.size();
 }
 
-size_t ReflectionRemover::revertSome(size_t ray_budget, ScanInserter& inserter,
+size_t ReflectionRemover::revertSome(size_t ray_budget, size_t min_scans, ScanInserter& inserter,
                                      ReflectanceField& field) {
   const size_t pending = revert_pending_;
   size_t spent = 0;
-  while (revert_pending_ > 0 && spent < ray_budget)
+  while (revert_pending_ > 0 && (spent < ray_budget || pending - revert_pending_ < min_scans))
     spent += revertScan(buffer_[--revert_pending_], inserter, field);
   return pending - revert_pending_;
 }

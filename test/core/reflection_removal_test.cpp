@@ -298,7 +298,7 @@ CellBox classifyPanes(const ReflectanceField& field, ActiveClasses& classes) {
 void revertWhole(ReflectionRemover& remover, const CellBox& new_glass, ScanInserter& inserter,
                  ReflectanceField& field) {
   remover.startRevert(new_glass);
-  remover.revertSome(std::numeric_limits<size_t>::max(), inserter, field);
+  remover.revertSome(std::numeric_limits<size_t>::max(), 1, inserter, field);
 }
 
 // Bins and reflective masks of the window that differ between two fields.
@@ -403,7 +403,7 @@ TEST(ReflectionRemoval, ARevertInPartsTakesBackWhatTheWholeRevertDoes) {
   EXPECT_NE(differingBins(whole_field, parts_field), 0u);
   for (int part = 0; part < 2; ++part) {  // a budget of one ray: one scan a part
     ASSERT_TRUE(parts.revertPending()) << "part " << part;
-    parts.revertSome(1, inserter, parts_field);
+    parts.revertSome(1, 1, inserter, parts_field);
   }
   EXPECT_FALSE(parts.revertPending());
   EXPECT_EQ(differingBins(whole_field, parts_field), 0u);

@@ -194,8 +194,12 @@ class Mapper {
   const Eigen::Vector2d& regionCentre(const TimedScan& scan) const;
   void makeRays(const TimedScan& scan, std::vector<Ray>& rays, ScanUpdate& update) const;
   void finishScan(const TimedScan& scan, const std::vector<Ray>& rays, const ScanUpdate& update);
-  // Reverts pending scans until `ray_budget` of their rays were checked or replayed.
-  void revertPartBehindNewGlass(size_t ray_budget);
+  // Reverts pending scans until `ray_budget` of their rays were checked or replayed and at least
+  // `min_scans` scans were reverted.
+  void revertPartBehindNewGlass(size_t ray_budget, size_t min_scans);
+  // Scans until the active region moves if the robot goes on as over the last scan (0: the next
+  // moves it), or limit + 1 when not within `limit` scans.
+  size_t scansUntilRegionMoves(size_t limit) const;
   void countScan(double stamp);
   void keepInsertedRays(const TimedScan& scan, const std::vector<Ray>& rays);
   bool tickDue(double stamp) const;

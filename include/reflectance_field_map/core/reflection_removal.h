@@ -74,9 +74,11 @@ class ReflectionRemover {
   // done, no scan leaves the buffer.
   void startRevert(const CellBox& new_glass);
   bool revertPending() const { return revert_pending_ > 0; }
-  // Reverts marked scans until `ray_budget` of their rays were checked or replayed (at least one
-  // scan, when any is marked); returns how many.
-  size_t revertSome(size_t ray_budget, ScanInserter& inserter, ReflectanceField& field);
+  size_t scansPendingRevert() const { return revert_pending_; }
+  // Reverts marked scans until `ray_budget` of their rays were checked or replayed and at least
+  // `min_scans` scans were reverted (at least one, when any is marked); returns how many.
+  size_t revertSome(size_t ray_budget, size_t min_scans, ScanInserter& inserter,
+                    ReflectanceField& field);
 
  private:
   // A scan as inserted, kept for online re-processing.
