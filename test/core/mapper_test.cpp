@@ -125,8 +125,8 @@ TEST(Mapper, ARevertInPartsEndsBeforeTheNextPassAndBeforeTheRegionMoves) {
   }
   Mapper parts(testing::scenarioOptions()), left(testing::scenarioOptions());
   int reverts = 0, spread_near_a_move = 0, finished_by_a_move = 0;
-  size_t scans_left = 0;                      // before the region moves, at the last pass
-  size_t revert_scans = 0, revert_parts = 0;  // of the revert under way
+  size_t scans_left = 0;    // before the region moves, at the last pass
+  size_t revert_parts = 0;  // of the revert under way
   for (size_t i = 0; i < scans.size(); ++i) {
     const bool pending = parts.revertPending();
     EXPECT_EQ(parts.addScan(scans[i]).region_moved, moves[i]) << "scan " << i;
@@ -135,9 +135,7 @@ TEST(Mapper, ARevertInPartsEndsBeforeTheNextPassAndBeforeTheRegionMoves) {
     }
     const size_t before = parts.stats().reverted_scans;
     parts.revertPartBehindNewGlass();
-    const size_t part = parts.stats().reverted_scans - before;
-    revert_scans += part;
-    revert_parts += part > 0;
+    revert_parts += parts.stats().reverted_scans > before;
 
     const bool was_pending = left.revertPending();
     const ScanUpdate update = left.addScan(scans[i]);  // no parts: only a move ends its revert
@@ -151,7 +149,7 @@ TEST(Mapper, ARevertInPartsEndsBeforeTheNextPassAndBeforeTheRegionMoves) {
     spread_near_a_move += scans_left <= 6 && revert_parts > 1;
     reverts += parts.classifyActiveRegion().new_glass;
     left.classifyActiveRegion();
-    revert_scans = revert_parts = 0;
+    revert_parts = 0;
     scans_left = std::find(moves.begin() + i + 1, moves.end(), true) - moves.begin() - i - 1;
   }
   EXPECT_GT(reverts, 0);
