@@ -126,8 +126,9 @@ class Mapper {
   // revertBehindNewGlass() then takes back the evidence beyond new glass, a pass's longest part
   // when it finds some. A live caller spreads it instead over the scans that follow, one
   // revertPartBehindNewGlass() (a fraction of a scan's own work) after each scan's labels are
-  // out. Whatever is still pending runs first when the next pass or evidence restart comes or
-  // the active region moves (save() writes the field as it is).
+  // out; the parts grow as the robot nears a move of the active region, so that they end before
+  // it. Whatever is still pending runs first when the next pass or evidence restart comes or the
+  // active region moves (save() writes the field as it is).
   MotionRemovalSummary classifyActiveRegion();
   void revertBehindNewGlass();
   void revertPartBehindNewGlass();
