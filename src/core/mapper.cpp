@@ -380,6 +380,7 @@ void Mapper::restartEvidence() {
   // Classes live on in the global map; the next scan re-places the window and restores them.
   field_.clear();
   impl_->anchor_history.clear();
+  impl_->motion.forgetPrevious();  // the next pass draws what the new evidence shows
   impl_->tick_due = false;
   impl_->reflections.forgetScans();
 }
@@ -388,6 +389,7 @@ void Mapper::forgetDerivedState() {
   impl_->reflections.thaw();
   impl_->reflections.forgetScans();  // and the revert pending on them
   impl_->anchor_history.clear();
+  impl_->motion.forgetPrevious();
   impl_->tick_due = false;
   impl_->classes.clear();
   impl_->arrivals.clear();

@@ -319,13 +319,40 @@ void MotionRemover::anchorRoundColumns(const ReflectanceField& field, const Cell
   }
 }
 
+bool MotionRemover::arrived(uint32_t root) const {
+  return arrived_runs_[root] > 0 &&
+         arrived_runs_[root] >= anchors_.solid_min_share * runs_in_[root];
+}
+
+CellClass MotionRemover::heldClass(const CellIndex& cell, int missed_bins) const {
+  if (!previous_box_.contains(cell)) return CellClass::kUnknown;
+  const uint32_t index = static_cast<uint32_t>(previous_box_.indexOf(cell));
+  const auto it =
+      std::lower_bound(drawn_.begin(), drawn_.end(), index,
+                       [](const DrawnCell& drawn, uint32_t i) { return drawn.index < i; });
+  if (it == drawn_.end() || it->index != index || missed_bins > it->missed_bins) {
+    return CellClass::kUnknown;
+  }
+  return it->drawn;
+}
+
+void MotionRemover::rememberDrawn(const ReflectanceField& field,
+                                  const std::vector<CellClass>& classes) {
+  drawn_.clear();
+  for (size_t i = 0; i < classes.size(); ++i) {
+    if (classes[i] == CellClass::kStatic || classes[i] == CellClass::kGlass ||
+        classes[i] == CellClass::kMetal) {
+      const int missed = std::min(field.missedBinsAt(slots_[i]), 0xffff);
+      drawn_.push_back({static_cast<uint32_t>(i), static_cast<uint16_t>(missed), classes[i]});
+    }
+  }
+}
+
 bool MotionRemover::heldByPersistence(uint32_t root) const {
   // A person who walked in and stood still is confirmed for as long as they stand. A component
   // with as large a share of its runs in solid cells that arrived as makes one structure
   // (solid_min_share) arrived: its confirmed cells do not hold it.
-  const bool arrived =
-      arrived_runs_[root] > 0 && arrived_runs_[root] >= anchors_.solid_min_share * runs_in_[root];
-  return persistent_[root] && !arrived && spansAtLeast(root, anchors_.persistence_min_cells);
+  return persistent_[root] && !arrived(root) && spansAtLeast(root, anchors_.persistence_min_cells);
 }
 
 void MotionRemover::classifyBand(const ReflectanceField& field, const CellBox& box,
@@ -358,11 +385,12 @@ void MotionRemover::classifyBand(const ReflectanceField& field, const CellBox& b
         for (size_t local = begin; local < end; ++local) {
           const uint32_t first = cell_first_run_[local], last = cell_first_run_[local + 1];
           int reflective = 0, widest = 0;
-          bool anchored = false;
+          bool anchored = false, arrived_here = false;
           for (uint32_t r = first; r < last; ++r) {
             reflective += runs_[r].length;
             widest = std::max<int>(widest, runs_[r].length);
             anchored |= isStructure(root_[r]);
+            arrived_here |= arrived(root_[r]);
           }
           CellClass& c = classes[local];
           c = rule_.classify(reflective, field.missedBinsAt(slots_[local]));
@@ -378,6 +406,17 @@ void MotionRemover::classifyBand(const ReflectanceField& field, const CellBox& b
             c = rule_.isMetalLobe(widest) ? CellClass::kMetal : CellClass::kGlass;
             ++(c == CellClass::kMetal ? counts.metal_cells : counts.glass_cells);
             glass.push_back(local);
+          } else if (const CellClass drawn = arrived_here
+                                                 ? CellClass::kMotion
+                                                 : heldClass(box.cellAt(static_cast<int>(local)),
+                                                             field.missedBinsAt(slots_[local]));
+                     drawn == CellClass::kGlass || drawn == CellClass::kMetal) {
+            c = drawn;  // still reflective, not seen through: structure as it was
+            ++(c == CellClass::kMetal ? counts.metal_cells : counts.glass_cells);
+            glass.push_back(local);
+          } else if (drawn == CellClass::kStatic) {
+            c = drawn;
+            ++counts.static_cells;
           } else {
             c = CellClass::kMotion;
             ++counts.motion_cells;
@@ -470,6 +509,7 @@ MotionRemovalCounts MotionRemover::classify(
   previous_field_ = field.identity();
   previous_box_ = box;
   previous_classes_ = classes;
+  rememberDrawn(field, classes);
   for (const MotionRemovalCounts& c : band_counts) {
     counts.static_cells += c.static_cells;
     counts.glass_cells += c.glass_cells;

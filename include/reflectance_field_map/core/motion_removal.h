@@ -31,6 +31,11 @@ struct MotionRemovalCounts {
 // confirmed, never seen through), or one shaped as a round column (AnchorRules::
 // column_max_radius_cells), is a static structure: its cells are static (widely visible) or
 // glass/metal; any other component is motion. Cells that departed (AnchorHistory) anchor nothing.
+// A cell the previous call drew static, glass or metal keeps that class while it still reflects
+// and no ray has seen through it since (its missed bins did not grow), even when its component
+// no longer is structure (a frame the robot passed, now seen from one side only), unless the
+// component arrived as a person does (the share of its runs in solid cells that arrived where
+// free space was seen, AnchorRules::solid_min_share).
 class MotionRemover {
  public:
   explicit MotionRemover(const OccupancyRule& rule, const AnchorRules& anchors = AnchorRules())
@@ -55,6 +60,14 @@ class MotionRemover {
   // previous call: its classes, all free or unknown, did not change.
   bool reusedTile(const CellIndex& cell) const {
     return tile_work_[boxTileOf(cell.x(), cell.y())] == TileWork::kReuse;
+  }
+  // Forgets the previous call's classes: the evidence restarted, and the next call draws only
+  // what the new evidence shows.
+  void forgetPrevious() {
+    previous_field_ = 0;
+    previous_box_ = CellBox();
+    previous_classes_.clear();
+    drawn_.clear();
   }
 
  private:
@@ -90,6 +103,13 @@ class MotionRemover {
   // Whether the long-confirmed cells of the component of `root` anchor it: it is long enough
   // (persistence_min_cells) and less than solid_min_share of its runs lie in arrived solid cells.
   bool heldByPersistence(uint32_t root) const;
+  // Whether solid cells that arrived hold the share of the component's runs that makes a person.
+  bool arrived(uint32_t root) const;
+  // The class the previous call drew at `cell` if it was static, glass or metal and the cell's
+  // missed bins have not grown past `missed_bins` since; kUnknown otherwise.
+  CellClass heldClass(const CellIndex& cell, int missed_bins) const;
+  // Keeps the static, glass and metal cells of `classes` (this call's) for heldClass.
+  void rememberDrawn(const ReflectanceField& field, const std::vector<CellClass>& classes);
   // Whether the component of `root` is structure: anchored_ (a widely visible or solid anchor, a
   // known obstacle beside the box, a round column), long-confirmed cells or its share of solid
   // runs.
@@ -148,6 +168,14 @@ class MotionRemover {
   CellBox previous_box_;
   std::vector<CellClass> previous_classes_;
   std::vector<uint32_t> previous_versions_;  // per storage tile, of tiles in previous_box_
+  // The previous call's static, glass and metal cells, by index in previous_box_ (ascending),
+  // with their missed bins then (heldClass).
+  struct DrawnCell {
+    uint32_t index;
+    uint16_t missed_bins;
+    CellClass drawn;
+  };
+  std::vector<DrawnCell> drawn_;
 };
 
 // True when circular bin intervals [a, a + a_len) and [b, b + b_len) share a bin.
