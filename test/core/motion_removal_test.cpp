@@ -51,6 +51,17 @@ struct DirectField {
         field, history, box, [](const CellIndex&) { return CellClass::kUnknown; }, classes);
     return classes[box.indexOf(cell)];
   }
+  // The classes of `cells` by `remover`, which keeps what its previous calls drew.
+  std::vector<CellClass> classifyBy(MotionRemover& remover, const std::vector<CellIndex>& cells) {
+    std::vector<CellClass> classes;
+    const CellBox box = field.activeBox();
+    remover.classify(
+        field, history, box, [](const CellIndex&) { return CellClass::kUnknown; }, classes);
+    std::vector<CellClass> out;
+    for (const CellIndex& cell : cells)
+      out.push_back(classes[box.indexOf(cell)]);
+    return out;
+  }
   // classify() with one anchor rule set to `value` on top of `base`.
   CellClass classifyWith(const CellIndex& cell, int AnchorRules::*rule, int value,
                          AnchorRules base = AnchorRules()) {
@@ -244,6 +255,16 @@ void stroke(DirectField& f, int x, int y0, int y1, Missed&& missed) {
   }
 }
 
+// A stroke along column x seen free (bin 0) before a persistence tick, then hit: it arrived.
+void arrivingStroke(DirectField& f, int x) {
+  for (int y = -10; y < 10; ++y) {
+    for (int i = 0; i < 5; ++i)
+      f.field.applyMiss({x, y}, 0);
+  }
+  f.tick();
+  stroke(f, x, -10, 10, [](int) { return false; });
+}
+
 // A wall glimpsed through a doorway is reflective in a few bins and missed in few: solid. A
 // person's stroke is seen through where they stood. Neither is widely visible; the solid share
 // of a component decides.
@@ -276,12 +297,7 @@ TEST(MotionRemover, SolidComponentsAreStructure) {
 // closed) is not structure, however solid it looks since.
 TEST(MotionRemover, CellsThatArrivedDoNotMakeStructure) {
   DirectField f;
-  for (int y = -10; y < 10; ++y) {
-    for (int i = 0; i < 5; ++i)
-      f.field.applyMiss({8, y}, 0);  // seen free ...
-  }
-  f.tick();
-  stroke(f, 8, -10, 10, [](int) { return false; });  // ... then hit
+  arrivingStroke(f, 8);
   stroke(f, -8, -10, 10, [](int) { return false; });
   AnchorRules anchors;
   anchors.solid_max_missed_ratio = 2.0;
@@ -303,14 +319,7 @@ TEST(MotionRemover, DrawnStructureStaysWhileItStillReflects) {
   f.hit({2, 0}, 39);
   const OccupancyRule rule(OccupancyOptions(), f.field.geometry().binWidth());
   MotionRemover remover(rule), forgetting(rule);
-  const CellBox box = f.field.activeBox();
-  auto classify = [&](MotionRemover& m) {
-    std::vector<CellClass> classes;
-    m.classify(
-        f.field, f.history, box, [](const CellIndex&) { return CellClass::kUnknown; }, classes);
-    return std::vector<CellClass>{classes[box.indexOf({0, 0})], classes[box.indexOf({1, 0})],
-                                  classes[box.indexOf({2, 0})]};
-  };
+  auto classify = [&](MotionRemover& m) { return f.classifyBy(m, {{0, 0}, {1, 0}, {2, 0}}); };
   using C = CellClass;
   EXPECT_EQ(classify(remover), (std::vector<C>{C::kStatic, C::kGlass, C::kGlass}));
   EXPECT_EQ(classify(forgetting), (std::vector<C>{C::kStatic, C::kGlass, C::kGlass}));
@@ -332,25 +341,14 @@ TEST(MotionRemover, DrawnStructureStaysWhileItStillReflects) {
 // stood next to a wall, drawn static with it, is motion once the anchor rules see them arrive.
 TEST(MotionRemover, DrawnStructureThatArrivedIsMotion) {
   DirectField f;
-  for (int y = -10; y < 10; ++y) {
-    for (int i = 0; i < 5; ++i)
-      f.field.applyMiss({8, y}, 0);  // seen free ...
-  }
-  f.tick();
-  stroke(f, 8, -10, 10, [](int) { return false; });  // ... then hit
+  arrivingStroke(f, 8);
   AnchorRules anchors;
   anchors.solid_max_missed_ratio = 2.0;
   MotionRemover remover(OccupancyRule(OccupancyOptions(), f.field.geometry().binWidth()), anchors);
-  const CellBox box = f.field.activeBox();
-  auto classify = [&] {
-    std::vector<CellClass> classes;
-    remover.classify(
-        f.field, f.history, box, [](const CellIndex&) { return CellClass::kUnknown; }, classes);
-    return classes[box.indexOf({8, 0})];
-  };
-  EXPECT_EQ(classify(), CellClass::kStatic);  // before the tick: solid, not known to have arrived
+  // Until the next persistence tick: solid, not yet known to have arrived.
+  EXPECT_EQ(f.classifyBy(remover, {{8, 0}}), std::vector<CellClass>{CellClass::kStatic});
   f.tick();
-  EXPECT_EQ(classify(), CellClass::kMotion);
+  EXPECT_EQ(f.classifyBy(remover, {{8, 0}}), std::vector<CellClass>{CellClass::kMotion});
 }
 
 // A person who walked in and stood still is hit throughout their stay, so their cells are
