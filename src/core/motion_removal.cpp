@@ -333,7 +333,7 @@ CellClass MotionRemover::heldClass(const CellIndex& cell, int missed_bins) const
   if (it == drawn_.end() || it->index != index || missed_bins > it->missed_bins) {
     return CellClass::kUnknown;
   }
-  return it->drawn;
+  return previous_classes_[index];
 }
 
 void MotionRemover::rememberDrawn(const ReflectanceField& field,
@@ -343,9 +343,16 @@ void MotionRemover::rememberDrawn(const ReflectanceField& field,
     if (classes[i] == CellClass::kStatic || classes[i] == CellClass::kGlass ||
         classes[i] == CellClass::kMetal) {
       const int missed = std::min(field.missedBinsAt(slots_[i]), 0xffff);
-      drawn_.push_back({static_cast<uint32_t>(i), static_cast<uint16_t>(missed), classes[i]});
+      drawn_.push_back({static_cast<uint32_t>(i), static_cast<uint16_t>(missed)});
     }
   }
+}
+
+bool MotionRemover::anyArrived(uint32_t first, uint32_t last) const {
+  for (uint32_t r = first; r < last; ++r) {
+    if (arrived(root_[r])) return true;
+  }
+  return false;
 }
 
 bool MotionRemover::heldByPersistence(uint32_t root) const {
@@ -385,12 +392,11 @@ void MotionRemover::classifyBand(const ReflectanceField& field, const CellBox& b
         for (size_t local = begin; local < end; ++local) {
           const uint32_t first = cell_first_run_[local], last = cell_first_run_[local + 1];
           int reflective = 0, widest = 0;
-          bool anchored = false, arrived_here = false;
+          bool anchored = false;
           for (uint32_t r = first; r < last; ++r) {
             reflective += runs_[r].length;
             widest = std::max<int>(widest, runs_[r].length);
             anchored |= isStructure(root_[r]);
-            arrived_here |= arrived(root_[r]);
           }
           CellClass& c = classes[local];
           c = rule_.classify(reflective, field.missedBinsAt(slots_[local]));
@@ -406,7 +412,7 @@ void MotionRemover::classifyBand(const ReflectanceField& field, const CellBox& b
             c = rule_.isMetalLobe(widest) ? CellClass::kMetal : CellClass::kGlass;
             ++(c == CellClass::kMetal ? counts.metal_cells : counts.glass_cells);
             glass.push_back(local);
-          } else if (const CellClass drawn = arrived_here
+          } else if (const CellClass drawn = anyArrived(first, last)
                                                  ? CellClass::kMotion
                                                  : heldClass(box.cellAt(static_cast<int>(local)),
                                                              field.missedBinsAt(slots_[local]));

@@ -105,6 +105,8 @@ class MotionRemover {
   bool heldByPersistence(uint32_t root) const;
   // Whether solid cells that arrived hold the share of the component's runs that makes a person.
   bool arrived(uint32_t root) const;
+  // Whether the component of any of runs [first, last) (one cell's) arrived.
+  bool anyArrived(uint32_t first, uint32_t last) const;
   // The class the previous call drew at `cell` if it was static, glass or metal and the cell's
   // missed bins have not grown past `missed_bins` since; kUnknown otherwise.
   CellClass heldClass(const CellIndex& cell, int missed_bins) const;
@@ -169,11 +171,10 @@ class MotionRemover {
   std::vector<CellClass> previous_classes_;
   std::vector<uint32_t> previous_versions_;  // per storage tile, of tiles in previous_box_
   // The previous call's static, glass and metal cells, by index in previous_box_ (ascending),
-  // with their missed bins then (heldClass).
+  // with their missed bins then (heldClass); their classes are in previous_classes_.
   struct DrawnCell {
     uint32_t index;
     uint16_t missed_bins;
-    CellClass drawn;
   };
   std::vector<DrawnCell> drawn_;
 };
