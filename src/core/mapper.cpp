@@ -47,8 +47,7 @@ struct Mapper::Impl {
       : runner(std::make_shared<ParallelRunner>(options.insertion.insertion_threads)),
         inserter(runner),
         rule(options.occupancy, field.geometry().binWidth()),
-        motion(rule, AnchorRules::fromOptions(options.motion_removal, field.geometry(), rule,
-                                              field.logOdds())),
+        motion(rule, AnchorRules::fromOptions(options.motion_removal, field.geometry())),
         anchor_history(field),
         classifier(rule, options.motion_removal.motion_removal_enabled ? &motion : nullptr,
                    GlassCompletion(field.geometry(),
@@ -72,6 +71,7 @@ struct Mapper::Impl {
   MapperStats stats;
   double last_tick_stamp = 0.0;  // persistence ticks follow the scans' clock
   bool tick_due = false;         // the last scan made a tick due; runDueTick runs it
+  int scans_since_tick = 0;      // counted by countScan, handed to the tick
   std::optional<Eigen::Vector2d> held_centre;
   std::vector<Ray> rays;
   std::vector<std::vector<Ray>> pending;                 // addScans: prepared, not yet inserted
@@ -228,12 +228,15 @@ void Mapper::countScan(double stamp) {
     impl_->last_tick_stamp = stamp;  // first scan, or time went back
   }
   ++impl_->stats.scans_processed;
+  ++impl_->scans_since_tick;
 }
 
 void Mapper::runDueTick() {
   if (!impl_->tick_due) return;
   impl_->tick_due = false;
-  impl_->anchor_history.tick(field_, impl_->motion.anchors(), impl_->runner.get());
+  impl_->anchor_history.tick(field_, impl_->motion.anchors(), impl_->runner.get(),
+                             impl_->scans_since_tick);
+  impl_->scans_since_tick = 0;
 }
 
 bool Mapper::tickDue(double stamp) const {
@@ -382,6 +385,7 @@ void Mapper::restartEvidence() {
   impl_->anchor_history.clear();
   impl_->motion.forgetPrevious();  // the next pass draws what the new evidence shows
   impl_->tick_due = false;
+  impl_->scans_since_tick = 0;
   impl_->reflections.forgetScans();
 }
 
@@ -391,6 +395,7 @@ void Mapper::forgetDerivedState() {
   impl_->anchor_history.clear();
   impl_->motion.forgetPrevious();
   impl_->tick_due = false;
+  impl_->scans_since_tick = 0;
   impl_->classes.clear();
   impl_->arrivals.clear();
   impl_->classifier.clear();

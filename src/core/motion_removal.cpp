@@ -137,6 +137,7 @@ void MotionRemover::unite(uint32_t a, uint32_t b) {
   runs_in_[a] += runs_in_[b];
   solid_runs_[a] += solid_runs_[b];
   arrived_runs_[a] += arrived_runs_[b];
+  departed_runs_[a] += departed_runs_[b];
   persistent_[a] |= persistent_[b];
   if (anchors_.tracksExtents()) {
     Extent& e = extent_[a];
@@ -213,8 +214,11 @@ void MotionRemover::joinBand(const ReflectanceField& field, const AnchorHistory&
         ++runs_in_[root];
         solid_runs_[root] += anchoring.solid_anchor;
         arrived_runs_[root] += anchoring.arrived;
+        departed_runs_[root] += anchoring.departed;
       }
-      bool seeded = anchor;
+      uint8_t seeded = anchoring.widely_visible ? kAnchoredFirmly
+                       : anchor                 ? kAnchoredBySolidAngle
+                                                : 0;
       // Long-confirmed cells anchor once their whole component is known (heldByPersistence).
       if (persistent) {
         for (uint32_t r = first; r < last; ++r)
@@ -228,14 +232,14 @@ void MotionRemover::joinBand(const ReflectanceField& field, const AnchorHistory&
           if (box.contains(n)) continue;
           const CellClass c = outside(n);
           if (c == CellClass::kStatic || c == CellClass::kGlass || c == CellClass::kMetal) {
-            seeded = true;
+            seeded = kAnchoredFirmly;
             break;
           }
         }
       }
       if (seeded) {
         for (uint32_t r = first; r < last; ++r)
-          anchored_[find(r)] = 1;
+          anchored_[find(r)] |= seeded;
       }
       for (const CellIndex& d : forward) {
         const CellIndex n = cell + d;
@@ -265,7 +269,9 @@ bool MotionRemover::spansAtLeast(uint32_t root, int min_cells) const {
 }
 
 bool MotionRemover::isStructure(uint32_t root) const {
-  return anchored_[root] != 0 || heldByPersistence(root) ||
+  return (anchored_[root] & kAnchoredFirmly) ||
+         ((anchored_[root] & kAnchoredBySolidAngle) && !departed(root)) ||
+         heldByPersistence(root) ||
          (anchors_.solid_max_missed_ratio > 0.0 &&
           solid_runs_[root] >= anchors_.solid_min_share * runs_in_[root]);
 }
@@ -313,10 +319,16 @@ void MotionRemover::anchorRoundColumns(const ReflectanceField& field, const Cell
   for (const auto& [root, fit] : column_fits_) {
     if (fit.spread() < min_spread) continue;
     const NormalCircleFit::Circle circle = fit.fit();
-    anchored_[root] = circle.radius >= kColumnMinRadiusCells &&
-                      circle.radius <= anchors_.column_max_radius_cells &&
-                      circle.rms <= kColumnMaxRmsCells;
+    const bool column = circle.radius >= kColumnMinRadiusCells &&
+                        circle.radius <= anchors_.column_max_radius_cells &&
+                        circle.rms <= kColumnMaxRmsCells;
+    if (column) anchored_[root] |= kAnchoredFirmly;
   }
+}
+
+bool MotionRemover::departed(uint32_t root) const {
+  return departed_runs_[root] > 0 &&
+         departed_runs_[root] >= anchors_.solid_min_share * runs_in_[root];
 }
 
 bool MotionRemover::arrived(uint32_t root) const {
@@ -402,7 +414,7 @@ void MotionRemover::classifyBand(const ReflectanceField& field, const CellBox& b
           c = rule_.classify(reflective, field.missedBinsAt(slots_[local]));
           if (c != CellClass::kOccupied) {
             counts.free_cells += c == CellClass::kFree;
-          } else if (anchor_cell_[local]) {
+          } else if (anchor_cell_[local] && anchored) {
             c = CellClass::kStatic;
             ++counts.static_cells;
           } else if (anchored && solid_[local]) {
@@ -468,6 +480,7 @@ MotionRemovalCounts MotionRemover::classify(
   runs_in_.assign(runs_.size(), 0);
   solid_runs_.assign(runs_.size(), 0);
   arrived_runs_.assign(runs_.size(), 0);
+  departed_runs_.assign(runs_.size(), 0);
   extent_.resize(anchors_.tracksExtents() ? runs_.size() : 0);
   forEachBand([&](int p) {
     std::copy(band_runs_[p].begin(), band_runs_[p].end(), runs_.begin() + band_offset[p]);

@@ -67,6 +67,61 @@ TEST(AnchorHistory, VacancyCountsTicksSeenThroughAnewWithoutAHit) {
   EXPECT_EQ(vacant(person), 0);
 }
 
+// A cell seen through anew is not vacant where a cell within vacancy_hit_radius of it was hit:
+// the side of a round column facing the robot, while it sees through the rim's other cells.
+TEST(AnchorHistory, AHitNearbyKeepsACellFromBeingVacant) {
+  ReflectanceField field = smallField();
+  AnchorHistory history(field);
+  const CellIndex rim(0, 0), far_person(-10, 6), facing(3, -3), far_away(-14, 6);
+  for (const CellIndex& cell : {rim, far_person}) {
+    for (int bin = 20; bin < 30; ++bin)
+      field.applyHit(cell, bin);
+  }
+  AnchorRules rules;
+  rules.remembered_min_bins = 3;
+  rules.vacancy_hit_radius = 3;
+  history.tick(field, rules);
+  for (int tick = 1; tick <= 2; ++tick) {
+    field.applyMiss(rim, 100 + tick);
+    field.applyMiss(far_person, 100 + tick);
+    field.applyHit(facing, 20);    // 3 cells from the rim
+    field.applyHit(far_away, 20);  // 4 cells from the person
+    history.tick(field, rules);
+    EXPECT_EQ(history.vacantTicksAt(field.window().storageIndex(rim)), 0);
+    EXPECT_EQ(history.vacantTicksAt(field.window().storageIndex(far_person)), tick);
+  }
+}
+
+// Vacancy also counts the scans of its ticks, and a hit resets both.
+TEST(AnchorHistory, VacancyCountsTheScansOfItsTicks) {
+  ReflectanceField field = smallField();
+  AnchorHistory history(field);
+  const CellIndex person(1, 1);
+  const int slot = field.window().storageIndex(person);
+  for (int bin = 20; bin < 30; ++bin)
+    field.applyHit(person, bin);
+  AnchorRules rules;
+  rules.remembered_min_bins = 3;
+  history.tick(field, rules, nullptr, /*scans=*/40);
+  EXPECT_EQ(history.vacantScansAt(slot), 0);  // hit at that tick
+  field.applyMiss(person, 100);
+  history.tick(field, rules, nullptr, /*scans=*/40);
+  history.tick(field, rules, nullptr, /*scans=*/40);  // nothing new seen: held
+  field.applyMiss(person, 101);
+  history.tick(field, rules, nullptr, /*scans=*/1);
+  EXPECT_EQ(history.vacantTicksAt(slot), 2);
+  EXPECT_EQ(history.vacantScansAt(slot), 41);
+  for (int i = 0; i < 7; ++i) {
+    field.applyMiss(person, 102 + i);
+    history.tick(field, rules, nullptr, /*scans=*/40);
+  }
+  EXPECT_EQ(history.vacantScansAt(slot), 255);  // saturates
+  field.applyHit(person, 20);
+  history.tick(field, rules, nullptr, /*scans=*/40);
+  EXPECT_EQ(history.vacantTicksAt(slot), 0);
+  EXPECT_EQ(history.vacantScansAt(slot), 0);
+}
+
 // A tile whose cells are none of them reflective any more is ticked in one sweep: its cells
 // must still lose their confirmation and their hits since the last tick, as cell by cell.
 TEST(AnchorHistory, TickClearsATileWithNoReflectiveCellLeft) {

@@ -217,6 +217,48 @@ TEST(MotionRemover, VacantCellsAnchorNothing) {
   }
   ASSERT_EQ(f.history.vacantTicksAt(f.field.window().storageIndex(spot)), 2);
   f.expectRuleMetExactlyAt(spot, &AnchorRules::departure_vacant_ticks, 2, CellClass::kStatic);
+  // One scan a tick (a sparse logger): vacant over 2 scans, short of 3.
+  AnchorRules over_scans;
+  over_scans.departure_vacant_ticks = 2;
+  over_scans.departure_vacant_scans = 2;
+  EXPECT_EQ(f.classify(spot, over_scans), CellClass::kMotion);
+  over_scans.departure_vacant_scans = 3;
+  EXPECT_EQ(f.classify(spot, over_scans), CellClass::kStatic);
+}
+
+// A blob of solid cells, each reflective over 20 deg (a solid anchor), `gone` of them then seen
+// through from new directions with nothing hit (vacant): a person seen from one side who left,
+// the robot seeing through part of the spot only (its rays are cut at the cells it saw first).
+// Once the cells seen gone make solid_min_share of the blob, the rest anchors nothing by its
+// solid angle.
+TEST(MotionRemover, SolidAnchorsOfABlobMostlySeenGoneAnchorNothing) {
+  auto classes_with_gone = [](int gone) {
+    DirectField f;
+    for (int x = 0; x < 6; ++x) {
+      for (int bin = 40; bin < 50; ++bin)
+        f.hit({x, 3}, bin);
+    }
+    f.tick(/*remembered_min_bins=*/1);
+    for (int tick = 0; tick < 2; ++tick) {
+      for (int x = 0; x < gone; ++x) {
+        for (int bin = 150 + 5 * tick; bin < 155 + 5 * tick; ++bin)
+          f.field.applyMiss({x, 3}, bin);
+      }
+      f.tick(1);
+    }
+    AnchorRules rules;
+    rules.departure_vacant_ticks = 2;
+    rules.solid_max_missed_ratio = 2.0;
+    rules.solid_min_share = 0.5;
+    rules.solid_anchor_min_bins = 8;
+    return std::vector<CellClass>{f.classify({0, 3}, rules), f.classify({5, 3}, rules)};
+  };
+  using C = CellClass;
+  EXPECT_EQ(classes_with_gone(0), (std::vector<C>{C::kStatic, C::kStatic}));
+  EXPECT_EQ(classes_with_gone(2), (std::vector<C>{C::kStatic, C::kStatic}));
+  // Half seen gone, half still solid: the solid share still makes it structure.
+  EXPECT_EQ(classes_with_gone(3), (std::vector<C>{C::kStatic, C::kStatic}));
+  EXPECT_EQ(classes_with_gone(4), (std::vector<C>{C::kMotion, C::kMotion}));
 }
 
 // A person who stood long enough to be confirmed, then left: the robot looks through the spot
@@ -648,6 +690,33 @@ TEST(MotionRemoval, PedestrianPausingThenLeavingIsRemoved) {
           << dx << "," << dy;
     }
   }
+}
+
+// A person seen standing from one side only, over too few directions to be widely visible and
+// missed in few of them (solid, like a wall), who then leaves while the robot drives on: the rays
+// that now cross the spot come from directions the person was never seen from. Vacant, those
+// cells anchor nothing; the cells behind them, which the rays cut at the first ones never reach,
+// anchor nothing either once most of the blob is seen gone. The wall behind stays.
+TEST(MotionRemoval, PersonSeenFromOneSideThenGoneIsRemoved) {
+  SyntheticWorld world;
+  world.addWall({-10.0, 8.0}, {10.0, 8.0});
+  const Eigen::Vector2d spot(0.0, 6.0);
+  std::vector<ScenarioStep> steps = driveBy({-3.0, 0.0}, {5.0, 0.0}, 0.0);
+  for (ScenarioStep& step : steps) {
+    if (step.robot.position.x() < 1.0) step.people = {Disc{spot, 0.25}};
+  }
+  Mapper mapper(testing::scenarioOptions());
+  runScenario(mapper, world, steps);
+  const GridGeometry& g = mapper.field().geometry();
+  for (double dx = -0.3; dx <= 0.3; dx += 0.05) {
+    for (double dy = -0.3; dy <= 0.3; dy += 0.05) {
+      EXPECT_FALSE(isObstacle(mapper.cellClass(g.cellOf(spot + Eigen::Vector2d(dx, dy)))))
+          << dx << "," << dy;
+    }
+  }
+  EXPECT_GT(
+      fractionAlong(mapper, {-2.0, 8.0}, {2.0, 8.0}, [](CellClass c) { return isObstacle(c); }),
+      0.95);
 }
 
 // The control: an office without glass loses nothing.

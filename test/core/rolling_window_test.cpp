@@ -62,6 +62,19 @@ TEST(RollingWindow, AxisOffsetsAndStorageIndexAgreeWithTheModulo) {
   }
 }
 
+TEST(RollingWindow, CellOfSlotIsTheCellOfTheBoxStoredThere) {
+  RollingWindow window(16, 3);
+  for (const TileIndex& origin : {TileIndex(0, 0), TileIndex(-7, 2), TileIndex(5, -1)}) {
+    SCOPED_TRACE(origin.transpose());
+    window.setOrigin(origin);
+    const CellBox box = window.box();
+    for (int y = box.min.y(); y < box.max.y(); ++y) {
+      for (int x = box.min.x(); x < box.max.x(); ++x)
+        ASSERT_EQ(window.cellOfSlot(window.storageIndex({x, y})), CellIndex(x, y));
+    }
+  }
+}
+
 TEST(RollingWindow, DiffReportsExactlyTheTilesThatLeftAndEntered) {
   RollingWindow window(16, 5);
   window.setOrigin({0, 0});

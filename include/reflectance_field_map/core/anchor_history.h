@@ -3,7 +3,6 @@
 #pragma once
 
 #include "reflectance_field_map/core/grid_geometry.h"
-#include "reflectance_field_map/core/occupancy.h"
 #include "reflectance_field_map/core/options.h"
 #include "reflectance_field_map/core/parallel_runner.h"
 #include "reflectance_field_map/core/reflectance_field.h"
@@ -27,6 +26,9 @@ struct CellAnchoring {
   bool solid_anchor = false;  // solid, and neither departed nor arrived: counts towards the share
   bool arrived = false;       // solid, not departed, and arrived (AnchorHistory::arrivedAt): counts
                               // against the persistent cells of its component
+  bool widely_visible = false;  // an anchor by eq. 7 (not only by its solid angle)
+  bool departed = false;  // solid, and departed or abandoned: seen gone; counts against the solid
+                          // anchors of its component
 };
 
 // The rules in the units the history counts in (ticks of the persistence clock, cells, theta
@@ -45,6 +47,14 @@ struct AnchorRules {
   // from new directions and hit by nothing, as when the robot looks back at where a person
   // stood from directions it never saw them from.
   int departure_vacant_ticks = 0;
+  // ... and over at least this many scans (AnchorHistory::vacantScansAt): sparse scans (a
+  // logger keeping one every metre) tick once a scan, and two glimpses through a wall prove
+  // nothing.
+  int departure_vacant_scans = 0;
+  // A hit within this many cells (Chebyshev) of a cell keeps it from being vacant at that tick:
+  // structure in view is hit somewhere near it. A round column returns only along its normal,
+  // so the robot sees through the cells of its rim on the sides and hits the side it faces.
+  int vacancy_hit_radius = 0;
   // A reflective cell missed in at most this many bins per reflective bin is solid: it returns
   // from nearly wherever it is seen. Moving objects are seen through where they were, glass and
   // metal away from their lobe, so their cells are missed in many more bins (0: off).
@@ -64,17 +74,15 @@ struct AnchorRules {
   // radius (cells), each returning along its normal from outside, is a round column (0: off).
   double column_max_radius_cells = 0.0;
 
-  // Which cells keep a history. Cells with at least this many reflective bins at a tick (those
-  // that could be widely visible) remember those bins (departures); max: none.
+  // Which cells keep a history. Cells with at least this many reflective bins at a tick
+  // remember those bins (departures); max: none.
   int remembered_min_bins = std::numeric_limits<int>::max();
   // Cells confirmed for at least this many ticks remember the bins they are certain in
   // (abandonment); 0: none.
   int confirmed_min_ticks = 0;
 
-  // The rules of `options` for a field of `geometry` whose bins `model` updates; `rule` tells
-  // which cells could be widely visible.
-  static AnchorRules fromOptions(const MotionRemovalOptions& options, const GridGeometry& geometry,
-                                 const OccupancyRule& rule, const LogOddsModel& model);
+  // The rules of `options` for a field of `geometry`.
+  static AnchorRules fromOptions(const MotionRemovalOptions& options, const GridGeometry& geometry);
   // Component extents are needed only by the rules with a minimum length.
   bool tracksExtents() const { return persistence_min_cells > 0; }
 
@@ -100,7 +108,9 @@ class AnchorHistory {
   // A persistence tick: reads what the field changed since the last one (hits, mask changes)
   // and clears that record. `rules` say which cells keep a history (remembered_min_bins,
   // confirmed_min_ticks). With a runner, on its threads.
-  void tick(ReflectanceField& field, const AnchorRules& rules, ParallelRunner* runner = nullptr);
+  // `scans` were inserted since the last tick.
+  void tick(ReflectanceField& field, const AnchorRules& rules, ParallelRunner* runner = nullptr,
+            int scans = 1);
   // The tiles left the active region (ReflectanceField::recenter): their cells start afresh.
   void forgetTiles(const std::vector<TileIndex>& tiles, const RollingWindow& window);
   void clear();
@@ -115,10 +125,13 @@ class AnchorHistory {
   // direction it reflected in.
   int contradictedBinsAt(const ReflectanceField& field, int storage_index) const;
   // Consecutive ticks, up to the last, over which the cell got new missed bins and no hit: it is
-  // seen through from new directions and nothing there reflects any more (a person who stood
-  // still seen from elsewhere after leaving). A hit resets it: structure in view is hit, even
-  // where grazing rays pass through its cell. 0 for cells without history.
+  // seen through from new directions and nothing there or near it (vacancy_hit_radius) reflects
+  // any more (a person who stood still seen from elsewhere after leaving). A hit resets it:
+  // structure in view is hit, even where grazing rays pass through its cell. 0 for cells
+  // without history.
   int vacantTicksAt(int storage_index) const;
+  // The scans inserted over those ticks (up to 255).
+  int vacantScansAt(int storage_index) const;
   // Consecutive ticks, up to the last, over which a confirmed cell was missed in a bin it had
   // been certain in and hit nowhere: the robot looks through it from where it saw it solid (a
   // person who stood still for long, then left). Glass transmits only away from the directions
@@ -133,6 +146,7 @@ class AnchorHistory {
     std::vector<uint64_t> bins;   // reflective at a tick (mask words)
     uint16_t missed_at_tick = 0;  // missed bins at the last tick
     uint8_t vacant_ticks = 0;
+    uint8_t vacant_scans = 0;
   };
   struct CertaintyHistory {
     std::vector<uint64_t> certain;  // bins at the clamp at a tick while confirmed (mask words)

@@ -112,10 +112,15 @@ class MotionRemover {
   CellClass heldClass(const CellIndex& cell, int missed_bins) const;
   // Keeps the static, glass and metal cells of `classes` (this call's) for heldClass.
   void rememberDrawn(const ReflectanceField& field, const std::vector<CellClass>& classes);
-  // Whether the component of `root` is structure: anchored_ (a widely visible or solid anchor, a
-  // known obstacle beside the box, a round column), long-confirmed cells or its share of solid
-  // runs.
+  // Whether the component of `root` is structure: anchored_ (a widely visible anchor, a known
+  // obstacle beside the box, a round column, or a solid anchor unless the component departed),
+  // long-confirmed cells or its share of solid runs.
   bool isStructure(uint32_t root) const;
+  // Whether the component of `root` has as large a share of its runs in solid cells seen gone
+  // (CellAnchoring::departed) as makes one structure (solid_min_share): what is left of a person
+  // who stood and left, at the cells the robot did not see through again. Its solid anchors
+  // anchor nothing.
+  bool departed(uint32_t root) const;
   // Anchors the components that are not yet structure and whose runs lie on a round column's
   // rim, each returning along the rim's normal (NormalCircleFit over the runs' central
   // directions).
@@ -140,11 +145,15 @@ class MotionRemover {
   std::vector<int> slots_;                   // storage slot of each box cell
   std::vector<uint32_t> parent_;
   std::vector<uint8_t> rank_;
-  std::vector<uint8_t> anchored_;       // per root: touches a widely visible or known static cell
-  std::vector<uint8_t> persistent_;     // per root: holds a long-confirmed cell
-  std::vector<uint32_t> runs_in_;       // per root: its runs
-  std::vector<uint32_t> solid_runs_;    // per root: its runs in solid cells that anchor
-  std::vector<uint32_t> arrived_runs_;  // per root: its runs in solid cells that arrived
+  // Per root, what anchors it: kAnchoredFirmly (a widely visible cell, a known static cell beside
+  // the box, a round column's rim), kAnchoredBySolidAngle (a solid cell over a wide angle).
+  static constexpr uint8_t kAnchoredFirmly = 1, kAnchoredBySolidAngle = 2;
+  std::vector<uint8_t> anchored_;
+  std::vector<uint8_t> persistent_;      // per root: holds a long-confirmed cell
+  std::vector<uint32_t> runs_in_;        // per root: its runs
+  std::vector<uint32_t> solid_runs_;     // per root: its runs in solid cells that anchor
+  std::vector<uint32_t> arrived_runs_;   // per root: its runs in solid cells that arrived
+  std::vector<uint32_t> departed_runs_;  // per root: its runs in solid cells seen gone
   struct Extent {
     int16_t min_x, min_y, max_x, max_y;  // box-local cells
   };

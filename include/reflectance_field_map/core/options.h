@@ -117,9 +117,10 @@ struct MotionRemovalOptions {
   // structure is never seen through from a direction it reflects in; glass reflects only where
   // it is not seen through. rad, 0 disables.
   double departure_min_angle = 0.10471975511965977;  // 6 deg: 3 bins at the default 2 deg
-  // Such a cell also stops anchoring after this long seen through in new directions without
-  // being hit once (checked at persistence ticks): the robot looking back, from directions it
-  // never saw them from, at where a person stood. Structure seen at all is hit. s, 0 disables.
+  // Such a cell also stops anchoring after this long (and 4 scans) seen through in new
+  // directions while neither it nor a cell within 25 cm of it is hit (checked at persistence
+  // ticks): the robot looking back, from directions it never saw them from, at where a person
+  // stood. Structure seen at all is hit in or near its cell. s, 0 disables.
   double departure_vacant_time = 1.0;
   // A reflective cell missed in at most this many bins per reflective bin is solid: it returns
   // from nearly wherever it is seen. A component at least `solid_min_share` of whose runs lie in

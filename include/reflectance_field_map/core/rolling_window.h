@@ -93,6 +93,15 @@ class RollingWindow {
   }
   // Storage tile of a slot: slot >> tileSlotShift() (tiles are contiguous blocks of slots).
   int tileSlotShift() const { return 2 * tile_shift_; }
+  // The cell of the window now stored in `slot` (storageIndex's inverse over the box).
+  CellIndex cellOfSlot(int slot) const {
+    const int tile = slot >> tileSlotShift();
+    const int storage_x = ((tile % tiles_per_side_) << tile_shift_) | (slot & tile_mask_);
+    const int storage_y =
+        ((tile / tiles_per_side_) << tile_shift_) | ((slot >> tile_shift_) & tile_mask_);
+    return {box_.min.x() + positiveMod(storage_x - storageCoordinate(box_.min.x()), sizeCells()),
+            box_.min.y() + positiveMod(storage_y - storageCoordinate(box_.min.y()), sizeCells())};
+  }
   int storageTile(const TileIndex& tile) const { return tileFirstSlot(tile) >> tileSlotShift(); }
   int storageTiles() const { return tiles_per_side_ * tiles_per_side_; }
 
