@@ -40,7 +40,8 @@ bool hitNear(const ReflectanceField& field, int slot, int radius) {
 }  // namespace
 
 AnchorRules AnchorRules::fromOptions(const MotionRemovalOptions& options,
-                                     const GridGeometry& geometry) {
+                                     const GridGeometry& geometry, const OccupancyRule& rule,
+                                     const LogOddsModel& model) {
   const double tick = 1.0 / options.motion_removal_rate;
   AnchorRules rules;
   rules.persistence_ticks = unitsIn(options.persistence_time, tick);
@@ -56,11 +57,13 @@ AnchorRules AnchorRules::fromOptions(const MotionRemovalOptions& options,
   rules.vacancy_hit_radius = unitsIn(kVacancyHitRadius, geometry.resolution());
   // Departures read the history of the cells reflective in as many bins as a departure needs
   // contradicted: those that could be widely visible, and the solid cells of a person seen from
-  // one side, who anchor their component as structure until they are seen gone. Not of cells
-  // merely confirmed for the persistence time: glass confirmed that way is seen through in its
-  // jittered lobe's edge bins later, which reads as a departure.
+  // one side, who anchor their component as structure until they are seen gone. Of cells merely
+  // confirmed for the persistence time only if they could be widely visible: glass confirmed
+  // that way is seen through in its jittered lobe's edge bins later, and from new directions
+  // with nothing near it hit, which reads as a departure.
   if (rules.departure_min_bins > 0 || rules.departure_vacant_ticks > 0) {
     rules.remembered_min_bins = std::max(1, rules.departure_min_bins);
+    rules.wide_min_bins = rule.minWidelyVisibleBins(model, geometry.thetaBins());
   }
   // Those confirmed cells are watched only in the bins they were certain in, which glass
   // keeps returning in (abandonedTicksAt).
@@ -83,7 +86,7 @@ CellAnchoring AnchorRules::judge(const ReflectanceField& field, const AnchorHist
                      field.missedBinsAt(slot) <= solid_max_missed_ratio * reflective_bins;
   // Only a would-be anchor needs its history read.
   const bool departed =
-      (widely_visible || confirmed || solid) &&
+      (widely_visible || solid || (confirmed && history.rememberedWideAt(slot))) &&
       ((departure_min_bins > 0 && history.contradictedBinsAt(field, slot) >= departure_min_bins) ||
        (departure_vacant_ticks > 0 && history.vacantTicksAt(slot) >= departure_vacant_ticks &&
         history.vacantScansAt(slot) >= departure_vacant_scans));
@@ -118,6 +121,11 @@ int AnchorHistory::vacantTicksAt(int storage_index) const {
 int AnchorHistory::vacantScansAt(int storage_index) const {
   const auto it = departure_.find(storage_index);
   return it == departure_.end() ? 0 : it->second.vacant_scans;
+}
+
+bool AnchorHistory::rememberedWideAt(int storage_index) const {
+  const auto it = departure_.find(storage_index);
+  return it != departure_.end() && it->second.wide;
 }
 
 int AnchorHistory::abandonedTicksAt(int storage_index) const {
@@ -256,7 +264,7 @@ void AnchorHistory::tick(ReflectanceField& field, const AnchorRules& rules, Para
         if (reflective >= remembered_min_bins) {
           const auto it = departure_.find(slot);
           if (it != departure_.end()) {
-            addReflectiveBins(field, index, it->second);
+            addReflectiveBins(field, index, rules.wide_min_bins, it->second);
           } else {
             remembered[thread].push_back(slot);
           }
@@ -291,7 +299,7 @@ void AnchorHistory::tick(ReflectanceField& field, const AnchorRules& rules, Para
     for (int slot : part) {
       DepartureHistory& history = departure_[slot];
       history.missed_at_tick = static_cast<uint16_t>(field.missedBinsAt(slot));
-      addReflectiveBins(field, slot, history);
+      addReflectiveBins(field, slot, rules.wide_min_bins, history);
     }
   }
   for (const std::vector<int>& part : certain) {
@@ -305,7 +313,8 @@ void AnchorHistory::tick(ReflectanceField& field, const AnchorRules& rules, Para
 }
 
 void AnchorHistory::addReflectiveBins(const ReflectanceField& field, size_t storage_index,
-                                      DepartureHistory& history) const {
+                                      int wide_min_bins, DepartureHistory& history) const {
+  history.wide |= field.reflectiveBinsAt(static_cast<int>(storage_index)) >= wide_min_bins;
   history.bins.resize(mask_words_, 0);
   const uint64_t* mask = field.reflectiveMaskAt(static_cast<int>(storage_index));
   for (int w = 0; w < mask_words_; ++w)

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "reflectance_field_map/core/grid_geometry.h"
+#include "reflectance_field_map/core/occupancy.h"
 #include "reflectance_field_map/core/options.h"
 #include "reflectance_field_map/core/parallel_runner.h"
 #include "reflectance_field_map/core/reflectance_field.h"
@@ -77,12 +78,17 @@ struct AnchorRules {
   // Which cells keep a history. Cells with at least this many reflective bins at a tick
   // remember those bins (departures); max: none.
   int remembered_min_bins = std::numeric_limits<int>::max();
+  // Cells with at least this many reflective bins at a tick could be widely visible
+  // (AnchorHistory::rememberedWideAt): departures of cells merely confirmed read only theirs.
+  int wide_min_bins = std::numeric_limits<int>::max();
   // Cells confirmed for at least this many ticks remember the bins they are certain in
   // (abandonment); 0: none.
   int confirmed_min_ticks = 0;
 
-  // The rules of `options` for a field of `geometry`.
-  static AnchorRules fromOptions(const MotionRemovalOptions& options, const GridGeometry& geometry);
+  // The rules of `options` for a field of `geometry` whose bins `model` updates; `rule` tells
+  // which cells could be widely visible.
+  static AnchorRules fromOptions(const MotionRemovalOptions& options, const GridGeometry& geometry,
+                                 const OccupancyRule& rule, const LogOddsModel& model);
   // Component extents are needed only by the rules with a minimum length.
   bool tracksExtents() const { return persistence_min_cells > 0; }
 
@@ -132,6 +138,9 @@ class AnchorHistory {
   int vacantTicksAt(int storage_index) const;
   // The scans inserted over those ticks (up to 255).
   int vacantScansAt(int storage_index) const;
+  // Whether the cell had at a tick as many reflective bins as a widely visible cell needs
+  // (AnchorRules::wide_min_bins).
+  bool rememberedWideAt(int storage_index) const;
   // Consecutive ticks, up to the last, over which a confirmed cell was missed in a bin it had
   // been certain in and hit nowhere: the robot looks through it from where it saw it solid (a
   // person who stood still for long, then left). Glass transmits only away from the directions
@@ -147,6 +156,7 @@ class AnchorHistory {
     uint16_t missed_at_tick = 0;  // missed bins at the last tick
     uint8_t vacant_ticks = 0;
     uint8_t vacant_scans = 0;
+    bool wide = false;  // had wide_min_bins reflective bins at a tick
   };
   struct CertaintyHistory {
     std::vector<uint64_t> certain;  // bins at the clamp at a tick while confirmed (mask words)
@@ -156,7 +166,7 @@ class AnchorHistory {
   // The arrival state of a cell reflective in no bin: seen free once it got a bin missed with
   // at least half the clamp's confidence (ReflectanceField::confidentlyMissedSinceTick).
   static uint8_t seenFree(const ReflectanceField& field, int slot, uint8_t arrival);
-  void addReflectiveBins(const ReflectanceField& field, size_t storage_index,
+  void addReflectiveBins(const ReflectanceField& field, size_t storage_index, int wide_min_bins,
                          DepartureHistory& history) const;
   void addCertainBins(const ReflectanceField& field, size_t storage_index,
                       CertaintyHistory& history) const;
