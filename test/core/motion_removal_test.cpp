@@ -665,6 +665,18 @@ TEST(MotionRemoval, PedestrianWalkingPastIsRemoved) {
       0.95);
 }
 
+// No cell within `half` m of `spot` on either axis is an obstacle: whoever stood there is gone
+// from the map.
+void expectSpotCleared(const Mapper& mapper, const Eigen::Vector2d& spot, double half) {
+  const GridGeometry& g = mapper.field().geometry();
+  for (double dx = -half; dx <= half; dx += 0.05) {
+    for (double dy = -half; dy <= half; dy += 0.05) {
+      EXPECT_FALSE(isObstacle(mapper.cellClass(g.cellOf(spot + Eigen::Vector2d(dx, dy)))))
+          << dx << "," << dy;
+    }
+  }
+}
+
 // A person who stands still long enough looks static; once they walk away the misses through
 // their old place must remove them (log-odds, not discarding).
 TEST(MotionRemoval, PedestrianPausingThenLeavingIsRemoved) {
@@ -683,13 +695,7 @@ TEST(MotionRemoval, PedestrianPausingThenLeavingIsRemoved) {
   }
   Mapper mapper(testing::scenarioOptions());
   runScenario(mapper, world, steps);
-  const GridGeometry& g = mapper.field().geometry();
-  for (double dx = -0.25; dx <= 0.25; dx += 0.05) {
-    for (double dy = -0.25; dy <= 0.25; dy += 0.05) {
-      EXPECT_FALSE(isObstacle(mapper.cellClass(g.cellOf(spot + Eigen::Vector2d(dx, dy)))))
-          << dx << "," << dy;
-    }
-  }
+  expectSpotCleared(mapper, spot, 0.25);
 }
 
 // A person seen standing from one side only, over too few directions to be widely visible and
@@ -707,13 +713,7 @@ TEST(MotionRemoval, PersonSeenFromOneSideThenGoneIsRemoved) {
   }
   Mapper mapper(testing::scenarioOptions());
   runScenario(mapper, world, steps);
-  const GridGeometry& g = mapper.field().geometry();
-  for (double dx = -0.3; dx <= 0.3; dx += 0.05) {
-    for (double dy = -0.3; dy <= 0.3; dy += 0.05) {
-      EXPECT_FALSE(isObstacle(mapper.cellClass(g.cellOf(spot + Eigen::Vector2d(dx, dy)))))
-          << dx << "," << dy;
-    }
-  }
+  expectSpotCleared(mapper, spot, 0.3);
   EXPECT_GT(
       fractionAlong(mapper, {-2.0, 8.0}, {2.0, 8.0}, [](CellClass c) { return isObstacle(c); }),
       0.95);
