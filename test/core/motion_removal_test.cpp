@@ -283,6 +283,42 @@ TEST(MotionRemover, AbandonedPersistentCellsAnchorNothing) {
                            confirmed);
 }
 
+// A pane confirmed for the persistence time, then seen from outside its lobe with nothing near it
+// hit: its cells get new missed bins and no hit (vacant), yet a pane keeps returning near its
+// normal. Cells merely confirmed depart only if they could have been widely visible
+// (wide_min_bins at a tick); the pane's reflect in 3 bins and stay glass.
+TEST(MotionRemover, ConfirmedPaneSeenFromOutsideItsLobeStaysGlass) {
+  constexpr int kConfirmed = 3;
+  auto pane_after_vacancy = [](int wide_min_bins) {
+    DirectField f;
+    AnchorRules tracked;
+    tracked.remembered_min_bins = 3;
+    tracked.wide_min_bins = wide_min_bins;
+    tracked.confirmed_min_ticks = kConfirmed;
+    for (int tick = 0; tick <= kConfirmed; ++tick) {
+      for (int x = -12; x < -8; ++x) {
+        for (int bin = 89; bin < 92; ++bin)
+          f.hit({x, 5}, bin, 6);
+        for (int bin = 10; bin < 20; ++bin)
+          f.field.applyMiss({x, 5}, bin);  // seen through away from its lobe: not solid
+      }
+      f.history.tick(f.field, tracked);
+    }
+    for (int tick = 0; tick < 2; ++tick) {
+      for (int x = -12; x < -8; ++x)
+        f.field.applyMiss({x, 5}, 120 + tick);
+      f.history.tick(f.field, tracked);
+    }
+    AnchorRules rules;
+    rules.persistence_ticks = kConfirmed;
+    rules.departure_vacant_ticks = 2;
+    rules.solid_max_missed_ratio = 2.0;
+    return f.classify({-10, 5}, rules);
+  };
+  EXPECT_EQ(pane_after_vacancy(/*wide_min_bins=*/22), CellClass::kGlass);
+  EXPECT_EQ(pane_after_vacancy(/*wide_min_bins=*/3), CellClass::kMotion);
+}
+
 // Hits a stroke of cells {x, y0..y1-1} in bins 40-42; `missed(y)` of them are also missed in 10
 // bins each (seen through from elsewhere).
 template <typename Missed>
