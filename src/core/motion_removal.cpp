@@ -326,14 +326,16 @@ void MotionRemover::anchorRoundColumns(const ReflectanceField& field, const Cell
   }
 }
 
+bool MotionRemover::holdsSolidShare(const std::vector<uint32_t>& runs, uint32_t root) const {
+  return runs[root] > 0 && runs[root] >= anchors_.solid_min_share * runs_in_[root];
+}
+
 bool MotionRemover::departed(uint32_t root) const {
-  return departed_runs_[root] > 0 &&
-         departed_runs_[root] >= anchors_.solid_min_share * runs_in_[root];
+  return holdsSolidShare(departed_runs_, root);
 }
 
 bool MotionRemover::arrived(uint32_t root) const {
-  return arrived_runs_[root] > 0 &&
-         arrived_runs_[root] >= anchors_.solid_min_share * runs_in_[root];
+  return holdsSolidShare(arrived_runs_, root);
 }
 
 CellClass MotionRemover::heldClass(const CellIndex& cell, int missed_bins) const {

@@ -103,6 +103,8 @@ class MotionRemover {
   // Whether the long-confirmed cells of the component of `root` anchor it: it is long enough
   // (persistence_min_cells) and less than solid_min_share of its runs lie in arrived solid cells.
   bool heldByPersistence(uint32_t root) const;
+  // Whether `runs` (per root) hold solid_min_share of the runs of the component of `root`.
+  bool holdsSolidShare(const std::vector<uint32_t>& runs, uint32_t root) const;
   // Whether solid cells that arrived hold the share of the component's runs that makes a person.
   bool arrived(uint32_t root) const;
   // Whether the component of any of runs [first, last) (one cell's) arrived.
