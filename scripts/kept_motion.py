@@ -25,17 +25,15 @@ import os
 import sys
 
 import numpy as np
-import rosbag
 import yaml
 
-from sim_bag_io import compose, read_labels, read_transforms_and_truth
+from sim_bag_io import NO_RETURN, read_labels, read_scans_in_map
 
 MOTION = 4  # RayTruth.MOTION
 KEPT = 1  # RayLabels.KEPT
 NEAREST_PERSON = 0.7  # m
 PERSON_GONE = 1.0  # m from the spot
 STEP = 0.05  # s, as the simulator's crowd planner samples
-NO_RETURN = 1e9  # m: the range a beam without a return (+inf) is read as
 
 
 class Person:
@@ -87,32 +85,6 @@ class Person:
         return None
 
 
-def read_scans(bag_path):
-    """Every scan with its sensor's true pose (map frame) and its truth, in bag order, and the
-    stamp of scene time 0 (the bag's start)."""
-    chains, mounts, truth = read_transforms_and_truth(
-        bag_path, [("map", "odom"), ("odom", "base_link")])
-    scans = []
-    with rosbag.Bag(bag_path) as bag:
-        origin = bag.get_start_time()
-        for topic, msg, _ in bag.read_messages():
-            if not hasattr(msg, "ranges"):
-                continue
-            key = (topic, msg.header.stamp.to_nsec())
-            if key not in truth:
-                continue
-            stamp = msg.header.stamp.to_sec()
-            pose = compose(compose(chains[("map", "odom")].at(stamp),
-                                   chains[("odom", "base_link")].at(stamp)),
-                           mounts[msg.header.frame_id])
-            ranges = np.nan_to_num(np.array(msg.ranges), posinf=NO_RETURN)
-            angles = pose[2] + msg.angle_min + msg.angle_increment * np.arange(len(ranges))
-            scans.append({"key": key, "stamp": stamp, "x": pose[0], "y": pose[1],
-                          "cos": np.cos(angles), "sin": np.sin(angles), "ranges": ranges,
-                          "truth": truth[key]})
-    return scans, origin
-
-
 def seen_through(scans, person, spot, after, origin):
     """How a beam of a scan after `after` (scene time), with the person gone from the spot,
     crossed their footprint there (passed within their radius of it, and on past its middle):
@@ -143,7 +115,7 @@ def classify_run(directory, mappers):
     """Counts per mapper of one simulated run."""
     scene = yaml.safe_load(open(os.path.join(directory, "scene.yaml")))
     people = [Person(spec) for spec in scene.get("people", [])]
-    scans, origin = read_scans(os.path.join(directory, "sim.bag"))
+    scans, origin = read_scans_in_map(os.path.join(directory, "sim.bag"))
     spots = {}  # (person, x, y) -> "stays", "left unseen" or "left, seen ...", for every map
     return {mapper: classify_labels(directory, mapper, scene["duration"], people, scans, origin,
                                     spots) for mapper in mappers}

@@ -28,7 +28,8 @@ import sys
 import numpy as np
 import rosbag
 
-from sim_bag_io import compose, read_labels, read_transforms_and_truth
+from sim_bag_io import (compose, read_labels, read_map_geometry, read_pgm_grid,
+                        read_transforms_and_truth)
 
 REFLECTION_TRUTH = 5
 KEPT, REFLECTION_LABEL = 1, 3
@@ -41,23 +42,8 @@ NEVER = math.inf
 
 def read_offline_classes(directory):
     """classes.pgm with row 0 at the map's origin (y up), the origin (m) and the resolution."""
-    meta = {}
-    for line in open(directory + "/map.yaml"):
-        key, _, value = line.partition(":")
-        meta[key.strip()] = value.strip()
-    resolution = float(meta["resolution"])
-    origin = [float(v) for v in meta["origin"].strip("[]").split(",")[:2]]
-    data = open(directory + "/classes.pgm", "rb").read()
-    fields, position = [], 0
-    while len(fields) < 4:
-        end = data.index(b"\n", position)
-        line = data[position:end]
-        position = end + 1
-        if not line.startswith(b"#"):
-            fields += line.split()
-    width, height = int(fields[1]), int(fields[2])
-    pixels = np.frombuffer(data[position:position + width * height], dtype=np.uint8)
-    return pixels.reshape(height, width)[::-1], origin, resolution
+    origin, resolution = read_map_geometry(directory)
+    return read_pgm_grid(directory + "/classes.pgm"), origin, resolution
 
 
 def read_classes_log(path):

@@ -98,7 +98,8 @@ for setup in $SETUPS; do
         ${flags[@]+"${flags[@]}"} \
         > "$dir/$config.log" 2>&1 || { cat "$dir/$config.log" >&2; exit 1; }
       rosrun reflectance_field_map rfm_eval --truth "$dir/sim.bag" --labels "$dir/$config/labels.bag" \
-        --scene "$dir/scene.yaml" --out "$dir/$config/eval" > "$dir/$config/eval.log"
+        --scene "$dir/scene.yaml" --truth-cells "$dir/$config/truth_cells.pgm" \
+        --out "$dir/$config/eval" > "$dir/$config/eval.log"
       echo "$config $seed $dir/$config/eval.json $setup $split" >> "$MANIFEST"
     done
     # The node's labels: each scan judged when it arrives, against the map so far.
@@ -160,6 +161,17 @@ rosrun reflectance_field_map rfm_eval --report "$MANIFEST" --out "$REPORT" --pre
   echo "motion beams."
   echo
   python3 "$REPO/scripts/kept_motion.py" "$OUT" RFM plain_grid RFM_live
+  echo
+  echo "## Glass missed: was it ever seen"
+  echo
+  echo "\`scripts/unseen_glass.py\` sorts the true glass cells that the class metrics count (glass"
+  echo "alone in the cell, something other than unknown drawn within a cell) by the direct glass"
+  echo "echoes (the truth's GLASS beams, placed with the true poses) that ended within a cell of them,"
+  echo "and gives the RFM's glass recall for each kind. A pane returns near its normal, and when"
+  echo "dirty a faint scatter from anywhere: glass the robot never faced is crossed by the rays"
+  echo "without an echo, and no map can draw it from them."
+  echo
+  python3 "$REPO/scripts/unseen_glass.py" "$OUT" RFM
   echo
   echo "## Reflections kept live: panes not yet faced"
   echo

@@ -8,6 +8,8 @@ import math
 import numpy as np
 import rosbag
 
+NO_RETURN = 1e9  # m: the range a beam without a return (+inf) is read as
+
 
 def yaw_of(q):
     return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
@@ -64,3 +66,56 @@ def read_labels(path):
             labels[(msg.scan_topic, msg.header.stamp.to_nsec())] = np.frombuffer(
                 msg.labels, dtype=np.uint8)
     return labels
+
+
+def read_scans_in_map(bag_path):
+    """Every scan of a simulated bag with its sensor's true pose (map frame), its beams' directions
+    and ranges (NO_RETURN for +inf) and its truth, in bag order, and the stamp of scene time 0 (the
+    bag's start)."""
+    chains, mounts, truth = read_transforms_and_truth(
+        bag_path, [("map", "odom"), ("odom", "base_link")])
+    scans = []
+    with rosbag.Bag(bag_path) as bag:
+        origin = bag.get_start_time()
+        for topic, msg, _ in bag.read_messages():
+            if not hasattr(msg, "ranges"):
+                continue
+            key = (topic, msg.header.stamp.to_nsec())
+            if key not in truth:
+                continue
+            stamp = msg.header.stamp.to_sec()
+            pose = compose(compose(chains[("map", "odom")].at(stamp),
+                                   chains[("odom", "base_link")].at(stamp)),
+                           mounts[msg.header.frame_id])
+            ranges = np.nan_to_num(np.array(msg.ranges), posinf=NO_RETURN)
+            angles = pose[2] + msg.angle_min + msg.angle_increment * np.arange(len(ranges))
+            scans.append({"key": key, "stamp": stamp, "x": pose[0], "y": pose[1],
+                          "cos": np.cos(angles), "sin": np.sin(angles), "ranges": ranges,
+                          "truth": truth[key]})
+    return scans, origin
+
+
+def read_map_geometry(directory):
+    """The origin (x, y in m) and the resolution of DIR/map.yaml."""
+    meta = {}
+    for line in open(directory + "/map.yaml"):
+        key, _, value = line.partition(":")
+        meta[key.strip()] = value.strip()
+    origin = [float(v) for v in meta["origin"].strip("[]").split(",")[:2]]
+    return origin, float(meta["resolution"])
+
+
+def read_pgm_grid(path):
+    """A binary PGM (P5, one byte a pixel) as rows from the map's y = 0 up (the picture's bottom
+    row first), as classes.pgm and rfm_eval --truth-cells write them."""
+    data = open(path, "rb").read()
+    fields, position = [], 0
+    while len(fields) < 4:
+        end = data.index(b"\n", position)
+        line = data[position:end]
+        position = end + 1
+        if not line.startswith(b"#"):
+            fields += line.split()
+    width, height = int(fields[1]), int(fields[2])
+    pixels = np.frombuffer(data[position:position + width * height], dtype=np.uint8)
+    return pixels.reshape(height, width)[::-1]

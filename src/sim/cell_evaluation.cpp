@@ -245,6 +245,22 @@ std::vector<std::uint8_t> rasterizeSurfaces(const World& world, const ClassGrid&
   return bits;
 }
 
+std::string surfacesPgm(const ClassGrid& grid, const std::vector<std::uint8_t>& truth) {
+  const std::size_t width = static_cast<std::size_t>(grid.width);
+  if (truth.size() != width * static_cast<std::size_t>(grid.height)) {
+    throw std::invalid_argument("truth has " + std::to_string(truth.size()) + " cells, the map " +
+                                std::to_string(width * grid.height));
+  }
+  std::string pgm =
+      "P5\n# true materials per cell: 1 diffuse, 2 glass, 4 metal, 8 mirror (bits)\n" +
+      std::to_string(grid.width) + " " + std::to_string(grid.height) + "\n255\n";
+  for (int y = grid.height - 1; y >= 0; --y) {  // the picture's top row is the map's highest y
+    const auto row = truth.begin() + static_cast<std::ptrdiff_t>(y * width);
+    pgm.append(row, row + static_cast<std::ptrdiff_t>(width));
+  }
+  return pgm;
+}
+
 CellConfusion CellConfusion::evaluate(const ClassGrid& classes,
                                       const std::vector<std::uint8_t>& truth, int tolerance) {
   if (truth.size() != classes.cells.size()) {

@@ -2,12 +2,13 @@
 // scene's world the classes its map draws.
 //
 //   rfm_eval --truth SIM.bag --labels DIR/labels.bag [--out PREFIX]
-//            [--scene SCENE.yaml [--map-dir DIR] [--tolerance-cells N]]
+//            [--scene SCENE.yaml [--map-dir DIR] [--tolerance-cells N] [--truth-cells FILE.pgm]]
 //       Matches /rfm/ray_labels to /sim/ray_truth by (scan_topic, header.stamp), prints the
 //       confusion matrix and writes PREFIX.md and PREFIX.json (default PREFIX = DIR/eval). With
 //       --scene (the file the bag was simulated from; rfm_sim --write-scene writes it for random
 //       scenes) it also compares DIR/classes.pgm, placed by DIR/map.yaml, with the world's
-//       materials cell by cell (tolerance 1 cell by default).
+//       materials cell by cell (tolerance 1 cell by default); --truth-cells also writes those
+//       materials in classes.pgm's layout (rfm::sim::surfacesPgm), for scripts/unseen_glass.py.
 //   rfm_eval --report MANIFEST --out REPORT.md [--preamble FILE] [--title TEXT]
 //       Aggregates eval.json files listed in MANIFEST (lines: "config scene path/eval.json", or
 //       "config scene path/eval.json setup split" for a report grouped by sensor setup and seed
@@ -23,6 +24,7 @@
 #include <sstream>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <yaml-cpp/yaml.h>
 
@@ -40,7 +42,8 @@ const char* const kLabelsTopic = "/rfm/ray_labels";
 
 void printUsage(std::ostream& out) {
   out << "usage: rfm_eval --truth SIM.bag --labels DIR/labels.bag [--out PREFIX]\n"
-         "                [--scene SCENE.yaml [--map-dir DIR] [--tolerance-cells N]]\n"
+         "                [--scene SCENE.yaml [--map-dir DIR] [--tolerance-cells N]\n"
+         "                 [--truth-cells FILE.pgm]]\n"
          "       rfm_eval --report MANIFEST --out REPORT.md [--preamble FILE] [--title TEXT]\n";
 }
 
@@ -69,6 +72,7 @@ struct CellOptions {
   std::string scene_path;  // empty: no class metrics
   std::string map_dir;
   int tolerance = 1;
+  std::string truth_cells_path;  // empty: the true materials are not written
 };
 
 // The class metrics of the map in `options.map_dir` against the scene's world. The scene must be
@@ -86,8 +90,11 @@ rfm::sim::CellConfusion evaluateCells(const CellOptions& options,
     }
   }
   const rfm::sim::ClassGrid classes = rfm::sim::readClassGrid(options.map_dir);
-  return rfm::sim::CellConfusion::evaluate(
-      classes, rfm::sim::rasterizeSurfaces(scene.world, classes), options.tolerance);
+  const std::vector<std::uint8_t> truth = rfm::sim::rasterizeSurfaces(scene.world, classes);
+  if (!options.truth_cells_path.empty()) {
+    writeFile(options.truth_cells_path, rfm::sim::surfacesPgm(classes, truth));
+  }
+  return rfm::sim::CellConfusion::evaluate(classes, truth, options.tolerance);
 }
 
 // eval.json: the ray confusion matrix's object, with the class metrics under "cells".
@@ -240,7 +247,7 @@ int main(int argc, char** argv) {
     }
     if ((arg == "--truth" || arg == "--labels" || arg == "--out" || arg == "--report" ||
          arg == "--preamble" || arg == "--title" || arg == "--scene" || arg == "--map-dir" ||
-         arg == "--tolerance-cells") &&
+         arg == "--tolerance-cells" || arg == "--truth-cells") &&
         i + 1 < argc) {
       options[arg] = argv[++i];
     } else {
@@ -281,9 +288,11 @@ int main(int argc, char** argv) {
       }
       cell_options.tolerance = std::stoi(text);
     }
+    cell_options.truth_cells_path = options["--truth-cells"];
     if (cell_options.scene_path.empty() &&
-        (options.count("--map-dir") || options.count("--tolerance-cells"))) {
-      std::cerr << "rfm_eval: --map-dir and --tolerance-cells need --scene\n";
+        (options.count("--map-dir") || options.count("--tolerance-cells") ||
+         options.count("--truth-cells"))) {
+      std::cerr << "rfm_eval: --map-dir, --tolerance-cells and --truth-cells need --scene\n";
       return 2;
     }
     return evaluate(options["--truth"], options["--labels"], prefix, cell_options);

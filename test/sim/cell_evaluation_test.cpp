@@ -62,6 +62,25 @@ TEST(CellEvaluationTest, RasterisesMaterialsPerCellAndMarksSharedCellsMixed) {
   EXPECT_EQ(at(9, 1), 0);
 }
 
+TEST(CellEvaluationTest, WritesTheSurfacesInTheClassMapsLayout) {
+  const ClassGrid classes =
+      grid(std::vector<std::vector<std::uint8_t>>(5, std::vector<std::uint8_t>(10, F)));
+  const std::vector<std::uint8_t> truth = rasterizeSurfaces(tinyWorld(), classes);
+  const std::string pgm = surfacesPgm(classes, truth);
+  const std::string header_end = "\n10 5\n255\n";
+  const std::size_t pixels = pgm.find(header_end);
+  ASSERT_EQ(pgm.rfind("P5\n", 0), 0u);
+  ASSERT_NE(pixels, std::string::npos);
+  const std::string image = pgm.substr(pixels + header_end.size());
+  ASSERT_EQ(image.size(), 50u);
+  // The picture's top row is y = 4: map cell (x, y) is picture row 4 - y.
+  auto at = [&](int x, int y) { return static_cast<std::uint8_t>(image[(4 - y) * 10 + x]); };
+  EXPECT_EQ(at(4, 2), kDiffuseBit | kGlassBit);
+  EXPECT_EQ(at(9, 0), kMirrorBit);
+  EXPECT_EQ(at(9, 1), 0);
+  EXPECT_THROW(surfacesPgm(classes, std::vector<std::uint8_t>(49, 0)), std::invalid_argument);
+}
+
 TEST(CellEvaluationTest, CountsExactlyWithoutTolerance) {
   const ClassGrid classes = mixedDrawing();
   const CellConfusion c =

@@ -54,6 +54,10 @@ enum SurfaceBit : std::uint8_t {
 };
 // One byte of SurfaceBits per cell of `grid`, from the world's segments and arcs.
 std::vector<std::uint8_t> rasterizeSurfaces(const World& world, const ClassGrid& grid);
+// `truth` (rasterizeSurfaces of `grid`) as a binary PGM in classes.pgm's layout: the same size,
+// the top row the map's highest y, one byte of SurfaceBits per cell. For scripts that relate the
+// true surfaces to the rays (scripts/unseen_glass.py).
+std::string surfacesPgm(const ClassGrid& grid, const std::vector<std::uint8_t>& truth);
 
 // Truth rows of the cell table: cells holding one material, and cells holding several (a pane's
 // frame beside its glass), which are counted but not scored.
