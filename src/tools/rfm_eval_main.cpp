@@ -288,7 +288,7 @@ int main(int argc, char** argv) {
       }
       cell_options.tolerance = std::stoi(text);
     }
-    cell_options.truth_cells_path = options["--truth-cells"];
+    if (options.count("--truth-cells")) cell_options.truth_cells_path = options["--truth-cells"];
     if (cell_options.scene_path.empty() &&
         (options.count("--map-dir") || options.count("--tolerance-cells") ||
          options.count("--truth-cells"))) {
