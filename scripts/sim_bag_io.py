@@ -116,6 +116,10 @@ def read_pgm_grid(path):
         position = end + 1
         if not line.startswith(b"#"):
             fields += line.split()
+    if fields[0] != b"P5" or fields[3] != b"255":
+        raise SystemExit("%s: not a binary PGM of one byte a pixel" % path)
     width, height = int(fields[1]), int(fields[2])
     pixels = np.frombuffer(data[position:position + width * height], dtype=np.uint8)
+    if width < 1 or height < 1 or len(pixels) != width * height:
+        raise SystemExit("%s: %d bytes for %d x %d pixels" % (path, len(pixels), width, height))
     return pixels.reshape(height, width)[::-1]
