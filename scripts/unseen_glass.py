@@ -34,15 +34,11 @@ MISSED = ["static", "metal", "motion", "free"]  # what a seen pane not drawn gla
 
 def within_one(mask):
     """Cells with `mask` set in them or in one of their 8 neighbours."""
-    padded = np.pad(mask, 1)
-    out = np.zeros_like(mask)
-    for dy in (0, 1, 2):
-        for dx in (0, 1, 2):
-            out |= padded[dy:dy + mask.shape[0], dx:dx + mask.shape[1]]
-    return out
+    return sum_within_one(mask.astype(np.int64)) > 0
 
 
 def sum_within_one(counts):
+    """Each cell's count summed with its 8 neighbours'."""
     padded = np.pad(counts, 1)
     out = np.zeros_like(counts)
     for dy in (0, 1, 2):

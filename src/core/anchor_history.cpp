@@ -25,7 +25,6 @@ constexpr int kDepartureVacantMinScans = 4;
 // Whether the cell in `slot`, or one within `radius` cells of it in the window, was hit since
 // the last tick.
 bool hitNear(const ReflectanceField& field, int slot, int radius) {
-  if (field.hitSinceTick(slot)) return true;
   const RollingWindow& window = field.window();
   const CellIndex cell = window.cellOfSlot(slot);
   for (int dy = -radius; dy <= radius; ++dy) {
