@@ -178,7 +178,6 @@ BatchResult processBatch(const std::vector<TimedScan>& scans, const MapperOption
   options.occupancy.beta = batch.batch_beta;        // classifies the whole recording seen
   MapperLayout layout;
   layout.window_radius = extent.half_side + options.grid.resolution;
-  layout.clearance_block_shift = 0;  // rebuilt once per pass only
 
   Mapper mapper(options, layout);
   mapper.holdActiveRegionAt(extent.centre);

@@ -118,16 +118,18 @@ TEST(MapperLayout, BadWindowRadiusIsRejected) {
   }
 }
 
-// Single cells in the batch, blocks of 4 online, at most blocks of 16.
+// Single cells by default, at most blocks of 16.
 TEST(MapperLayout, BadClearanceBlockShiftIsRejected) {
   for (int shift : {-1, 5}) {
     MapperLayout layout;
     layout.clearance_block_shift = shift;
     expectLayoutRejected("clearance_block_shift", layout);
   }
-  MapperLayout layout;
-  layout.clearance_block_shift = 0;
-  EXPECT_NO_THROW(Mapper(MapperOptions{}, layout));
+  for (int shift : {0, 4}) {
+    MapperLayout layout;
+    layout.clearance_block_shift = shift;
+    EXPECT_NO_THROW(Mapper(MapperOptions{}, layout));
+  }
 }
 
 TEST(MapperOptions, DefaultsAreValidAndMatchThePaper) {

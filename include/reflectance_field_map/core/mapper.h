@@ -77,9 +77,10 @@ struct MapperLayout {
   // one window; its rays still add evidence only within active_region_radius of their sensor.
   double window_radius = 0.0;
   // The reflection check leaps by a clearance map kept in blocks of 2^clearance_block_shift
-  // cells a side (ClearanceMap): blocks of 4 cells keep its rebuild at each online motion
-  // removal cheap; the batch rebuilds it once a pass and uses single cells, so rays leap closer.
-  int clearance_block_shift = 2;
+  // cells a side (ClearanceMap). Single cells let rays leap to a cell from structure, so most
+  // rays that end on a wall never walk cell by cell; larger blocks rebuild faster at each motion
+  // removal and placement of the window, but every ray then walks its last blocks.
+  int clearance_block_shift = 0;
 };
 
 // The one mapper that the node, the nodelet and the offline tool drive. Not thread-safe:
