@@ -1,6 +1,7 @@
 // Insertion, motion removal and whole-update benchmarks on the default active region
 // (10 m, 5 cm, 2 deg) with 1081-beam UTM-30LX scans. Results: doc/benchmarks.md.
 
+#include "reflectance_field_map/core/clearance_map.h"
 #include "reflectance_field_map/core/mapper.h"
 #include "reflectance_field_map/core/motion_removal.h"
 #include "reflectance_field_map/core/plain_occupancy_grid.h"
@@ -16,6 +17,7 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <random>
 #include <vector>
 
 namespace rfm {
@@ -279,6 +281,25 @@ void BM_MotionClassify(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_MotionClassify)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
+
+// The reflection check's clearance map, rebuilt as each motion-removal pass and placement of
+// the window rebuild it: 512 x 512 cells (the default window's side), 2 % of them blocking, in
+// single cells (argument 0, the mapper's) or blocks of 4 (argument 2).
+void BM_ClearanceRebuild(benchmark::State& state) {
+  constexpr int kSide = 512;
+  std::vector<uint8_t> blocking(kSide * kSide);
+  std::mt19937 rng(1);
+  std::bernoulli_distribution two_percent(0.02);
+  for (uint8_t& cell : blocking)
+    cell = two_percent(rng);
+  ClearanceMap clearance(static_cast<int>(state.range(0)));
+  const CellBox box{{0, 0}, {kSide, kSide}};
+  for (auto _ : state) {
+    clearance.compute(box, [&](int dx, int dy) { return blocking[dy * kSide + dx] == 0; });
+    benchmark::DoNotOptimize(clearance.at({kSide / 2, kSide / 2}));
+  }
+}
+BENCHMARK(BM_ClearanceRebuild)->Arg(0)->Arg(2)->Unit(benchmark::kMillisecond);
 
 // The whole online update per scan: reflection check + insertion + motion removal at 2 Hz with
 // two 40 Hz lidars (one removal every 40 scans), amortised.
