@@ -22,6 +22,13 @@ constexpr double kVacancyHitRadius = 0.25;
 // scans a second, so dense data never waits for this.
 constexpr int kDepartureVacantMinScans = 4;
 
+// A widely visible cell anchors nothing where it arrived after the field saw it free while missed
+// over at least this angle (rad, 20 deg): floor seen all round, where someone walked in and stood
+// while the robot drove round them. A wall's cell that rays running along the wall crossed before
+// they hit it is missed over a few degrees: at 10 deg panes lost the frames that carry them
+// (doc/design.md).
+constexpr double kWideArrivalMinMissedAngle = 0.3490658503988659;
+
 // Whether the cell in `slot`, or one within `radius` cells of it in the window, was hit since
 // the last tick.
 bool hitNear(const ReflectanceField& field, int slot, int radius) {
@@ -54,6 +61,7 @@ AnchorRules AnchorRules::fromOptions(const MotionRemovalOptions& options,
   rules.glass_max_static_neighbours = options.glass_max_static_neighbours;
   rules.column_max_radius_cells = options.column_max_radius / geometry.resolution();
   rules.vacancy_hit_radius = unitsIn(kVacancyHitRadius, geometry.resolution());
+  rules.wide_arrival_min_missed_bins = unitsIn(kWideArrivalMinMissedAngle, geometry.binWidth());
   // Departures read the history of the cells reflective in as many bins as a departure needs
   // contradicted: those that could be widely visible, and the solid cells of a person seen from
   // one side, who anchor their component as structure until they are seen gone. Of cells merely
@@ -96,20 +104,35 @@ CellAnchoring AnchorRules::judge(const ReflectanceField& field, const AnchorHist
   CellAnchoring anchoring;
   const bool still_there = solid && !departed && !abandoned;
   const bool solid_anchor = still_there && !history.arrivedAt(slot);
-  anchoring.anchor = (widely_visible && !departed) || (solid_anchor && solid_anchor_min_bins > 0 &&
-                                                       reflective_bins >= solid_anchor_min_bins);
+  // Seen all round where it now reflects: someone who walked in and stood, not structure.
+  const bool wide = widely_visible && !departed && !history.arrivedWidelyAt(slot);
+  anchoring.anchor = wide || (solid_anchor && solid_anchor_min_bins > 0 &&
+                              reflective_bins >= solid_anchor_min_bins);
   anchoring.persistent = confirmed && !departed && !abandoned;
   anchoring.solid = solid;
   anchoring.solid_anchor = solid_anchor;
   anchoring.arrived = still_there && history.arrivedAt(slot);
-  anchoring.widely_visible = widely_visible && !departed;
+  anchoring.widely_visible = wide;
   anchoring.departed = solid && (departed || abandoned);
   return anchoring;
 }
 
-uint8_t AnchorHistory::seenFree(const ReflectanceField& field, int slot, uint8_t arrival) {
+uint8_t AnchorHistory::seenFree(const ReflectanceField& field, int slot, uint8_t arrival,
+                                int min_missed_bins) {
   // Seen free once (a person who then left was seen free before arriving) stays seen free.
-  return arrival != 0 || field.confidentlyMissedSinceTick(slot) ? kSeenFree : 0;
+  const bool confident = field.confidentlyMissedSinceTick(slot);
+  const bool widely =
+      confident && min_missed_bins > 0 && field.missedBinsAt(slot) >= min_missed_bins;
+  uint8_t seen = 0;
+  if ((arrival & (kSeenFree | kArrived)) || confident) seen |= kSeenFree;
+  if ((arrival & (kSeenFreeWidely | kArrivedWidely)) || widely) seen |= kSeenFreeWidely;
+  return seen;
+}
+
+uint8_t AnchorHistory::arrive(uint8_t arrival) {
+  if (arrival & kSeenFree) arrival = (arrival & ~kSeenFree) | kArrived;
+  if (arrival & kSeenFreeWidely) arrival = (arrival & ~kSeenFreeWidely) | kArrivedWidely;
+  return arrival;
 }
 
 int AnchorHistory::vacantTicksAt(int storage_index) const {
@@ -252,7 +275,8 @@ void AnchorHistory::tick(ReflectanceField& field, const AnchorRules& rules, Para
         // left to do is what the loop below does to unreflective cells.
         std::fill_n(&confirmed_ticks_[first], tile_slots, uint8_t{0});
         for (size_t index = first; index < first + tile_slots; ++index)
-          arrival_[index] = seenFree(field, static_cast<int>(index), arrival_[index]);
+          arrival_[index] = seenFree(field, static_cast<int>(index), arrival_[index],
+                                     rules.wide_arrival_min_missed_bins);
         field.clearSinceTick(static_cast<int>(first), static_cast<int>(tile_slots));
         continue;
       }
@@ -271,9 +295,9 @@ void AnchorHistory::tick(ReflectanceField& field, const AnchorRules& rules, Para
         // Reflective now after being seen free at the last tick: something arrived there.
         uint8_t& arrival = arrival_[index];
         if (!reflective) {
-          arrival = seenFree(field, slot, arrival);
-        } else if (arrival & kSeenFree) {
-          arrival = kArrived;
+          arrival = seenFree(field, slot, arrival, rules.wide_arrival_min_missed_bins);
+        } else {
+          arrival = arrive(arrival);
         }
         uint8_t& ticks = confirmed_ticks_[index];
         if (!reflective) {

@@ -386,6 +386,39 @@ TEST(MotionRemover, CellsThatArrivedDoNotMakeStructure) {
   EXPECT_EQ(f.classify({8, 0}, anchors), CellClass::kMotion);
 }
 
+// Someone who walked onto floor the robot had seen free from all round and stood while it drove
+// round them is widely visible: that anchors nothing. A wall's cell grazed first by rays running
+// along the wall is missed in a bin or two before it is hit, and anchors as before.
+TEST(MotionRemover, WidelyVisibleCellsThatArrivedWhereSeenFreeAllRoundAnchorNothing) {
+  const CellIndex person(6, 6), wall(-6, -6);
+  auto classes_with = [&](int wide_arrival_min_missed_bins) {
+    DirectField f;
+    for (int bin = 100; bin < 130; ++bin) {
+      for (int i = 0; i < 5; ++i)
+        f.field.applyMiss(person, bin);  // seen free over 60 deg
+    }
+    for (int i = 0; i < 5; ++i)
+      f.field.applyMiss(wall, 0);  // grazed
+    AnchorRules tracked;
+    tracked.wide_arrival_min_missed_bins = wide_arrival_min_missed_bins;
+    f.history.tick(f.field, tracked);
+    for (int bin = 0; bin < 40; ++bin) {
+      f.hit(person, bin);  // then widely visible
+      f.hit(wall, bin);
+    }
+    f.history.tick(f.field, tracked);
+    EXPECT_TRUE(f.history.arrivedAt(f.field.window().storageIndex(person)));
+    EXPECT_TRUE(f.history.arrivedAt(f.field.window().storageIndex(wall)));
+    return std::vector<CellClass>{f.classify(person), f.classify(wall)};
+  };
+  using C = CellClass;
+  EXPECT_EQ(classes_with(0), (std::vector<C>{C::kStatic, C::kStatic}));  // off
+  EXPECT_EQ(classes_with(10), (std::vector<C>{C::kMotion, C::kStatic}));
+  EXPECT_EQ(classes_with(30), (std::vector<C>{C::kMotion, C::kStatic}));
+  EXPECT_EQ(classes_with(31), (std::vector<C>{C::kStatic, C::kStatic}));
+  EXPECT_EQ(classes_with(1), (std::vector<C>{C::kMotion, C::kMotion}));
+}
+
 // A cell the previous pass drew as structure keeps its class while it still reflects and no ray
 // has seen through it since, though its component lost what anchored it (the frame beside a
 // pane, now seen through). After forgetPrevious() the evidence alone decides again.

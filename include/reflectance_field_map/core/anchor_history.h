@@ -56,6 +56,10 @@ struct AnchorRules {
   // structure in view is hit somewhere near it. A round column returns only along its normal,
   // so the robot sees through the cells of its rim on the sides and hits the side it faces.
   int vacancy_hit_radius = 0;
+  // A widely visible cell anchors nothing once it arrived where the field had seen it free
+  // while missed in at least this many bins (AnchorHistory::arrivedWidelyAt): someone who
+  // walked onto floor seen from all round and stood while the robot drove round them. 0: off.
+  int wide_arrival_min_missed_bins = 0;
   // A reflective cell missed in at most this many bins per reflective bin is solid: it returns
   // from nearly wherever it is seen. Moving objects are seen through where they were, glass and
   // metal away from their lobe, so their cells are missed in many more bins (0: off).
@@ -124,7 +128,11 @@ class AnchorHistory {
   int confirmedTicksAt(int storage_index) const { return confirmed_ticks_[storage_index]; }
   // Whether the cell became reflective after it was seen free (missed, nothing reflective) at a
   // tick: something arrived where there was nothing. Cleared when it stops being reflective.
-  bool arrivedAt(int storage_index) const { return arrival_[storage_index] == kArrived; }
+  bool arrivedAt(int storage_index) const { return (arrival_[storage_index] & kArrived) != 0; }
+  // ... after it was seen free while missed in AnchorRules::wide_arrival_min_missed_bins bins.
+  bool arrivedWidelyAt(int storage_index) const {
+    return (arrival_[storage_index] & kArrivedWidely) != 0;
+  }
   // Bins of the cell that were reflective at a tick and are now missed with at least half the
   // clamp's confidence: something that was seen there is gone (a person who stood still, then
   // left). 0 for cells without history. Static structure, opaque, is not seen through from a
@@ -164,8 +172,10 @@ class AnchorHistory {
     uint8_t abandoned_ticks = 0;
   };
   // The arrival state of a cell reflective in no bin: seen free once it got a bin missed with
-  // at least half the clamp's confidence (ReflectanceField::confidentlyMissedSinceTick).
-  static uint8_t seenFree(const ReflectanceField& field, int slot, uint8_t arrival);
+  // at least half the clamp's confidence (ReflectanceField::confidentlyMissedSinceTick), seen
+  // free widely if it was then missed in `min_missed_bins` bins or more (0: never).
+  static uint8_t seenFree(const ReflectanceField& field, int slot, uint8_t arrival,
+                          int min_missed_bins);
   void addReflectiveBins(const ReflectanceField& field, size_t storage_index, int wide_min_bins,
                          DepartureHistory& history) const;
   void addCertainBins(const ReflectanceField& field, size_t storage_index,
@@ -174,8 +184,11 @@ class AnchorHistory {
   int mask_words_;
   int theta_bins_;
   std::vector<uint8_t> confirmed_ticks_;  // by storage index
-  static constexpr uint8_t kSeenFree = 1, kArrived = 2;
-  std::vector<uint8_t> arrival_;                         // by storage index: kSeenFree, kArrived
+  // The arrival state of a cell now reflective: seen free (widely) becomes arrived (widely).
+  static uint8_t arrive(uint8_t arrival);
+  static constexpr uint8_t kSeenFree = 1, kArrived = 2, kSeenFreeWidely = 4, kArrivedWidely = 8;
+  std::vector<uint8_t> arrival_;  // by storage index: kSeenFree or kArrived, kSeenFreeWidely or
+                                  // kArrivedWidely
   std::unordered_map<int, DepartureHistory> departure_;  // by storage index
   std::unordered_map<int, CertaintyHistory> certainty_;  // by storage index
 };
