@@ -27,7 +27,7 @@ import sys
 import numpy as np
 import yaml
 
-from sim_bag_io import NO_RETURN, read_labels, read_scans_in_map
+from sim_bag_io import NO_RETURN, read_labels, read_scans_in_map, scenes_mapped_by
 
 MOTION = 4  # RayTruth.MOTION
 KEPT = 1  # RayLabels.KEPT
@@ -163,17 +163,8 @@ def main():
         sys.exit(__doc__)
     out = sys.argv[1]
     mappers = sys.argv[2:] or ["RFM"]
-    runs = {}  # (setup, seed) -> split, of the runs that mapped with every mapper asked for
-    configs = {}
-    with open(os.path.join(out, "manifest.txt")) as manifest:
-        for line in manifest:
-            config, seed, _, setup, split = line.split()
-            runs[(setup, seed)] = split
-            configs.setdefault((setup, seed), set()).add(config)
     rows = {}
-    for (setup, seed), split in runs.items():
-        if not set(mappers) <= configs[(setup, seed)]:
-            continue
+    for (setup, seed), split in scenes_mapped_by(out, mappers).items():
         for mapper, counts in classify_run(os.path.join(out, setup, seed), mappers).items():
             total = rows.setdefault((mappers.index(mapper), setup, split), {"seeds": 0})
             total["seeds"] += 1

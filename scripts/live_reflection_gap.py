@@ -29,7 +29,7 @@ import numpy as np
 import rosbag
 
 from sim_bag_io import (compose, read_labels, read_map_geometry, read_pgm_grid,
-                        read_transforms_and_truth)
+                        read_transforms_and_truth, scenes_mapped_by)
 
 REFLECTION_TRUTH = 5
 KEPT, REFLECTION_LABEL = 1, 3
@@ -179,22 +179,10 @@ def main():
     args = parser.parse_args()
     if args.every < 1:
         sys.exit("live_reflection_gap.py: --every must be >= 1")
-    runs = {}  # (setup, seed) -> split, of the scenes with both runs
-    configs = collections.defaultdict(set)
-    manifest_path = os.path.join(args.out, "manifest.txt")
-    if not os.path.exists(manifest_path):
-        sys.exit("live_reflection_gap.py: %s not found: OUT is scripts/run_random_evaluation.sh's"
-                 % manifest_path)
-    with open(manifest_path) as manifest:
-        for line in manifest:
-            config, seed, _, setup, split = line.split()
-            runs[(setup, seed)] = split
-            configs[(setup, seed)].add(config)
     rows = {}
-    for (setup, seed), split in sorted(runs.items()):
+    scenes = scenes_mapped_by(args.out, [args.offline, args.live])
+    for (setup, seed), split in sorted(scenes.items()):
         directory = os.path.join(args.out, setup, seed)
-        if not {args.offline, args.live} <= configs[(setup, seed)]:
-            continue
         if classes_log_of(os.path.join(directory, args.live)) is None:
             continue
         row = rows.setdefault((setup, split), collections.Counter())

@@ -4,6 +4,7 @@ A scan is keyed by (topic, stamp in ns), as /sim/ray_truth and /rfm/ray_labels n
 """
 import bisect
 import math
+import os
 
 import numpy as np
 import rosbag
@@ -123,3 +124,24 @@ def read_pgm_grid(path):
     if width < 1 or height < 1 or len(pixels) != width * height:
         raise SystemExit("%s: %d bytes for %d x %d pixels" % (path, len(pixels), width, height))
     return pixels.reshape(height, width)[::-1]
+
+
+def read_manifest(out):
+    """The runs listed in OUT/manifest.txt of scripts/run_random_evaluation.sh, in its order:
+    (mapper, seed, setup, split) each."""
+    path = os.path.join(out, "manifest.txt")
+    if not os.path.exists(path):
+        raise SystemExit("%s not found: OUT is scripts/run_random_evaluation.sh's" % path)
+    with open(path) as manifest:
+        return [(mapper, seed, setup, split)
+                for mapper, seed, _, setup, split in (line.split() for line in manifest)]
+
+
+def scenes_mapped_by(out, mappers):
+    """{(setup, seed): split} of the scenes in OUT/manifest.txt that every one of `mappers`
+    mapped."""
+    splits, mapped = {}, {}
+    for mapper, seed, setup, split in read_manifest(out):
+        splits[(setup, seed)] = split
+        mapped.setdefault((setup, seed), set()).add(mapper)
+    return {scene: split for scene, split in splits.items() if set(mappers) <= mapped[scene]}

@@ -19,7 +19,7 @@ import sys
 
 import numpy as np
 
-from sim_bag_io import read_pgm_grid
+from sim_bag_io import read_manifest, read_pgm_grid
 from unseen_glass import within_one
 
 STATIC, GLASS = 2, 3  # classes.pgm codes
@@ -49,16 +49,14 @@ def main():
     out = sys.argv[1]
     mappers = sys.argv[2:] or ["RFM"]
     rows = {}
-    with open(os.path.join(out, "manifest.txt")) as manifest:
-        for line in manifest:
-            config, seed, _, setup, split = line.split()
-            if config not in mappers:
-                continue
-            row = rows.setdefault((config, setup, split),
-                                  {"seeds": 0, "counts": {name: [0, 0, 0] for name, _ in DRAWN}})
-            row["seeds"] += 1
-            for name, cells in offsets(os.path.join(out, setup, seed), config).items():
-                row["counts"][name] = [a + b for a, b in zip(row["counts"][name], cells)]
+    for config, seed, setup, split in read_manifest(out):
+        if config not in mappers:
+            continue
+        row = rows.setdefault((config, setup, split),
+                              {"seeds": 0, "counts": {name: [0, 0, 0] for name, _ in DRAWN}})
+        row["seeds"] += 1
+        for name, cells in offsets(os.path.join(out, setup, seed), config).items():
+            row["counts"][name] = [a + b for a, b in zip(row["counts"][name], cells)]
     print("| mapper | setup | seeds | static cells | within 1 / 2 / 3+ cells of a surface (%) "
           "| glass cells | within 1 / 2 / 3+ cells of a surface (%) |")
     print("|---|---|---|---:|---|---:|---|")

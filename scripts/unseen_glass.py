@@ -23,7 +23,8 @@ import sys
 
 import numpy as np
 
-from sim_bag_io import NO_RETURN, read_map_geometry, read_pgm_grid, read_scans_in_map
+from sim_bag_io import (NO_RETURN, read_manifest, read_map_geometry, read_pgm_grid,
+                        read_scans_in_map)
 
 GLASS_ECHO = 2  # RayTruth.GLASS
 GLASS_BIT = 2  # rfm::sim::kGlassBit
@@ -96,19 +97,17 @@ def main():
     out = sys.argv[1]
     mapper = sys.argv[2] if len(sys.argv) > 2 else "RFM"
     rows = {}
-    with open(os.path.join(out, "manifest.txt")) as manifest:
-        for line in manifest:
-            config, seed, _, setup, split = line.split()
-            if config != mapper:
-                continue
-            row = rows.setdefault((setup, split), {"seeds": 0, "counts": [[0, 0] for _ in BUCKETS],
-                                                   "missed": [0] * len(MISSED)})
-            row["seeds"] += 1
-            counts, missed = count_run(os.path.join(out, setup, seed), mapper)
-            for b, (cells, drawn) in enumerate(counts):
-                row["counts"][b][0] += cells
-                row["counts"][b][1] += drawn
-            row["missed"] = [a + b for a, b in zip(row["missed"], missed)]
+    for config, seed, setup, split in read_manifest(out):
+        if config != mapper:
+            continue
+        row = rows.setdefault((setup, split), {"seeds": 0, "counts": [[0, 0] for _ in BUCKETS],
+                                               "missed": [0] * len(MISSED)})
+        row["seeds"] += 1
+        counts, missed = count_run(os.path.join(out, setup, seed), mapper)
+        for b, (cells, drawn) in enumerate(counts):
+            row["counts"][b][0] += cells
+            row["counts"][b][1] += drawn
+        row["missed"] = [a + b for a, b in zip(row["missed"], missed)]
     print("| setup | seeds | true glass cells | by the glass echoes within a cell (%): "
           + " / ".join(BUCKETS) + " | drawn glass (recall, %): all / "
           + " / ".join(BUCKETS) + " | 10 or more, not drawn glass, drawn (%): "
