@@ -19,6 +19,13 @@ constexpr double kMaxOffLine = 1.0;
 constexpr double kMinMeanMissedBins = 10.0;
 // Structure on the line (frames, mullions) is thin; a longer stretch of it ends the line.
 constexpr double kMaxStructure = 0.5;  // m
+// Glass returns near its normal: a run of motion cells on a pane was seen across its line. A
+// person walking away from the robot leaves a trail seen along it.
+const double kMinReturnAcrossLine = std::cos(kPi / 6.0);
+// The longest stretch of free cells on the line between a run of motion cells and the structure
+// that frames it, or the next run: a part of the pane that the robot did not face. Shorter than a
+// doorway, which the robot may not have faced either.
+constexpr double kMaxUnfacedEnd = 0.5;  // m
 
 }  // namespace
 
@@ -26,10 +33,11 @@ GlassCompletion::GlassCompletion(const GridGeometry& geometry, double max_gap)
     : geometry_(geometry), max_gap_(max_gap) {}
 
 void GlassCompletion::collectRuns(const ReflectanceField& field, const CellBox& box,
-                                  const std::vector<CellClass>& classes) {
-  runs_.clear();
+                                  const std::vector<CellClass>& classes, CellClass of_class,
+                                  std::vector<Run>& runs) {
+  runs.clear();
   const int width = box.width(), height = box.height();
-  // Glass is rare: jump from one glass cell to the next, and clear only the marks set.
+  // Glass and motion are rare: jump from one such cell to the next, and clear only the marks set.
   if (visited_.size() != classes.size()) visited_.assign(classes.size(), 0);
   visited_cells_.clear();
   std::vector<int> stack, members;
@@ -38,11 +46,11 @@ void GlassCompletion::collectRuns(const ReflectanceField& field, const CellBox& 
   static_assert(sizeof(CellClass) == 1, "searched as bytes");
   for (const CellClass* found = first;
        (found = static_cast<const CellClass*>(
-            std::memchr(found, static_cast<int>(CellClass::kGlass), last - found))) != nullptr;
+            std::memchr(found, static_cast<int>(of_class), last - found))) != nullptr;
        ++found) {
     const int start = static_cast<int>(found - first);
     if (visited_[start]) continue;
-    // 8-connected component of glass cells.
+    // 8-connected component of cells of the class.
     members.clear();
     stack.assign(1, start);
     visited_[start] = 1;
@@ -57,7 +65,7 @@ void GlassCompletion::collectRuns(const ReflectanceField& field, const CellBox& 
           const int nx = x + dx, ny = y + dy;
           if (nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
           const int n = ny * width + nx;
-          if (classes[n] != CellClass::kGlass || visited_[n]) continue;
+          if (classes[n] != of_class || visited_[n]) continue;
           visited_[n] = 1;
           stack.push_back(n);
         }
@@ -65,7 +73,10 @@ void GlassCompletion::collectRuns(const ReflectanceField& field, const CellBox& 
     }
     if (members.size() < kMinRunCells) continue;
     Run run;
-    if (describeRun(field, box, members, run)) runs_.push_back(std::move(run));
+    if (describeRun(field, box, members, run)) {
+      run.cells = members;
+      runs.push_back(std::move(run));
+    }
   }
   for (int i : visited_cells_)
     visited_[i] = 0;
@@ -101,6 +112,64 @@ bool GlassCompletion::describeRun(const ReflectanceField& field, const CellBox& 
   return !run.return_bins.empty();
 }
 
+bool GlassCompletion::couldBeGlass(const ReflectanceField& field, const Run& run,
+                                   const CellIndex& cell) {
+  // Glass on the line would have returned the rays near its normal: misses there rule it out.
+  // At the edges of its lobe glass returns only sometimes (its window jitters), so a cell
+  // counts as looked through only where it was missed in half of the run's bins.
+  size_t missed = 0;
+  for (int bin : run.return_bins)
+    missed += field.value(cell, bin) < 0;
+  return 2 * missed < run.return_bins.size();
+}
+
+bool GlassCompletion::returnsAcrossLine(const Run& run) const {
+  const Eigen::Vector2d normal(-run.direction.y(), run.direction.x());
+  double across = 0.0;
+  for (int bin : run.return_bins) {
+    const double angle = geometry_.binCenter(bin);
+    across += std::abs(normal.x() * std::cos(angle) + normal.y() * std::sin(angle));
+  }
+  return across >= kMinReturnAcrossLine * static_cast<double>(run.return_bins.size());
+}
+
+bool GlassCompletion::reachesStructure(const ReflectanceField& field, const CellBox& box,
+                                       const Run& run, const Eigen::Vector2d& from,
+                                       const Eigen::Vector2d& outward,
+                                       const std::vector<CellClass>& classes,
+                                       std::vector<int>& walked) const {
+  const Eigen::Vector2d normal(-run.direction.y(), run.direction.x());
+  const CellIndex beside =
+      std::abs(normal.y()) >= std::abs(normal.x()) ? CellIndex(0, 1) : CellIndex(1, 0);
+  auto class_at = [&](const CellIndex& cell) { return classInBox(box, classes, cell); };
+  auto any_at = [&](const CellIndex& cell, auto&& is) {
+    return is(class_at(cell)) || is(class_at(cell + beside)) || is(class_at(cell - beside));
+  };
+  bool reached = false;
+  double free_from = -1.0;  // where the current stretch of free cells began (m along outward)
+  const Eigen::Vector2d to = from + outward * max_gap_;
+  forEachCellOnRayWhile(from, to, geometry_.inverseResolution(), [&](const CellIndex& cell) {
+    if (!box.contains(cell)) return false;
+    if (any_at(cell, [](CellClass c) { return isObstacle(c); })) {
+      reached = true;
+      return false;
+    }
+    const CellClass c = class_at(cell);
+    const double along = (geometry_.cellCenter(cell) - from).dot(outward);
+    if (c == CellClass::kMotion) {
+      free_from = -1.0;
+    } else if (c == CellClass::kFree && couldBeGlass(field, run, cell)) {
+      if (free_from < 0.0) free_from = along;
+      if (along - free_from + geometry_.resolution() > kMaxUnfacedEnd) return false;
+    } else {
+      return false;
+    }
+    walked.push_back(box.indexOf(cell));
+    return true;
+  });
+  return reached;
+}
+
 void GlassCompletion::extend(const ReflectanceField& field, const CellBox& box, const Run& run,
                              const Eigen::Vector2d& from, const Eigen::Vector2d& outward,
                              std::vector<CellClass>& classes, std::vector<int>& completed) const {
@@ -117,15 +186,6 @@ void GlassCompletion::extend(const ReflectanceField& field, const CellBox& box, 
     return isObstacle(c) || c == CellClass::kMotion;
   };
   auto glass_at = [&](const CellIndex& cell) { return class_at(cell) == CellClass::kGlass; };
-  // Glass on the line would have returned the rays near its normal: misses there rule it out.
-  // At the edges of its lobe glass returns only sometimes (its window jitters), so a cell
-  // counts as looked through only where it was missed in half of the run's bins.
-  auto could_be_glass = [&](const CellIndex& cell) {
-    size_t missed = 0;
-    for (int bin : run.return_bins)
-      missed += field.value(cell, bin) < 0;
-    return 2 * missed < run.return_bins.size();
-  };
   std::vector<int> gap;
   Eigen::Vector2d gap_start;
   // Motion cells of the structure the gap began at: between two stretches of glass they are
@@ -167,7 +227,7 @@ void GlassCompletion::extend(const ReflectanceField& field, const CellBox& box, 
     }
     structure = 0;
     const int i = box.indexOf(cell);
-    if (classes[i] != CellClass::kFree || !could_be_glass(cell)) return false;
+    if (classes[i] != CellClass::kFree || !couldBeGlass(field, run, cell)) return false;
     if (gap.empty()) gap_start = geometry_.cellCenter(cell);
     gap.push_back(i);
     return (geometry_.cellCenter(cell) - gap_start).dot(outward) + resolution <= max_gap_;
@@ -179,7 +239,29 @@ const std::vector<int>& GlassCompletion::complete(const ReflectanceField& field,
   std::vector<int>& completed = completed_;
   completed.clear();
   if (max_gap_ <= 0.0) return completed;
-  collectRuns(field, box, classes);
+  collectRuns(field, box, classes, CellClass::kGlass, runs_);
+  // A pane faced only briefly (a sparse logger, a single pass) anchors on nothing that Alg. 2
+  // knows of and falls as motion. Its run lies on the line between structure, seen across it,
+  // and the stretches between it and that structure were never looked through near its normal.
+  turned_from_motion_ = 0;
+  collectRuns(field, box, classes, CellClass::kMotion, motion_runs_);
+  for (const Run& run : motion_runs_) {
+    walked_.clear();
+    if (!returnsAcrossLine(run) ||
+        !reachesStructure(field, box, run, run.centre + run.direction * run.last, run.direction,
+                          classes, walked_) ||
+        !reachesStructure(field, box, run, run.centre + run.direction * run.first, -run.direction,
+                          classes, walked_)) {
+      continue;
+    }
+    walked_.insert(walked_.end(), run.cells.begin(), run.cells.end());
+    for (int i : walked_) {
+      if (classes[i] == CellClass::kGlass) continue;  // listed twice (a diagonal line)
+      turned_from_motion_ += classes[i] == CellClass::kMotion;
+      classes[i] = CellClass::kGlass;
+      completed.push_back(i);
+    }
+  }
   // From both ends of every run, outwards along its line.
   for (const Run& run : runs_) {
     extend(field, box, run, run.centre + run.direction * run.last, run.direction, classes,

@@ -37,6 +37,7 @@ MotionRemovalCounts RegionClassifier::classify(const ReflectanceField& field,
     redrawn_tiles.push_back(tile_of(i));
     ++counts.glass_cells;
   }
+  counts.motion_cells -= completion_.turnedFromMotion();
   // Glass and metal on no pane: static.
   const OffPaneCells off_pane = drawStaticOffPane(box, region_.classes, panes_);
   for (int i : off_pane.cells) {

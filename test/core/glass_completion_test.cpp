@@ -73,5 +73,81 @@ TEST_F(FacadeLine, GapLookedThroughNearTheNormalStaysOpen) {
   EXPECT_EQ(glassCells(-1.35, -0.35), 0);
 }
 
+// A pane along y = 0 that the robot faced only in passing, as motion removal leaves it: walls
+// (static) at both ends, and between them a run of motion cells that returned near the pane's
+// normal and were missed from twelve other directions, 0.2 m short of each wall.
+class UnanchoredPane : public ::testing::Test {
+ protected:
+  UnanchoredPane() : field_(testing::centredField(3.0)), box_(field_.activeBox()) {
+    classes_.assign(static_cast<size_t>(box_.width()) * box_.height(), CellClass::kFree);
+    set(-1.5, -1.0, CellClass::kStatic);
+    set(0.6, 1.1, CellClass::kStatic);
+  }
+
+  // The run from `from_x` to `to_x`, returning in `bin`.
+  void addRun(double from_x, double to_x, int bin) {
+    set(from_x, to_x, CellClass::kMotion);
+    for (double x = from_x + 0.025; x < to_x; x += 0.05) {
+      const CellIndex cell = field_.geometry().cellOf({x, 0.025});
+      for (int i = 0; i < 3; ++i)
+        field_.applyHit(cell, bin);
+      for (int missed = 60; missed < 72; ++missed)
+        field_.applyMiss(cell, missed);
+    }
+  }
+  void set(double from_x, double to_x, CellClass c) {
+    for (double x = from_x + 0.025; x < to_x; x += 0.05)
+      classes_[index(x)] = c;
+  }
+  size_t index(double x) const {
+    return static_cast<size_t>(box_.indexOf(field_.geometry().cellOf({x, 0.025})));
+  }
+  int cellsOf(double from_x, double to_x, CellClass c) const {
+    int n = 0;
+    for (double x = from_x + 0.025; x < to_x; x += 0.05)
+      n += classes_[index(x)] == c;
+    return n;
+  }
+
+  static constexpr int kNormalBin = 45;  // 90 deg: across the line
+  ReflectanceField field_;
+  CellBox box_;
+  std::vector<CellClass> classes_;
+};
+
+TEST_F(UnanchoredPane, RunBetweenStructureIsGlass) {
+  addRun(-0.8, 0.4, kNormalBin);
+  GlassCompletion completion(field_.geometry(), 2.0);
+  const std::vector<int>& completed = completion.complete(field_, box_, classes_);
+  // The run and the unfaced ends between it and the walls.
+  EXPECT_EQ(cellsOf(-1.0, 0.6, CellClass::kGlass), 32);
+  EXPECT_EQ(completed.size(), 32u);
+  EXPECT_EQ(completion.turnedFromMotion(), 24u);
+  EXPECT_EQ(cellsOf(-1.5, -1.0, CellClass::kStatic), 10);
+}
+
+TEST_F(UnanchoredPane, RunSeenAlongItsLineStaysMotion) {
+  addRun(-0.8, 0.4, 0);  // a trail of someone walking away from the robot
+  GlassCompletion completion(field_.geometry(), 2.0);
+  EXPECT_TRUE(completion.complete(field_, box_, classes_).empty());
+  EXPECT_EQ(cellsOf(-0.8, 0.4, CellClass::kMotion), 24);
+}
+
+TEST_F(UnanchoredPane, RunFarFromStructureStaysMotion) {
+  addRun(-0.8, -0.1, kNormalBin);  // 0.7 m short of the east wall: no pane's unfaced end
+  GlassCompletion completion(field_.geometry(), 2.0);
+  EXPECT_TRUE(completion.complete(field_, box_, classes_).empty());
+  EXPECT_EQ(cellsOf(-0.8, -0.1, CellClass::kMotion), 14);
+}
+
+TEST_F(UnanchoredPane, RunBesideAnOpeningFacedStaysMotion) {
+  addRun(-0.8, 0.4, kNormalBin);
+  // Rays near the normal passed between the run and the east wall.
+  for (double x = 0.425; x < 0.6; x += 0.05)
+    field_.applyMiss(field_.geometry().cellOf({x, 0.025}), kNormalBin);
+  GlassCompletion completion(field_.geometry(), 2.0);
+  EXPECT_TRUE(completion.complete(field_, box_, classes_).empty());
+}
+
 }  // namespace
 }  // namespace rfm
