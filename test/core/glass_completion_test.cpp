@@ -9,48 +9,63 @@
 namespace rfm {
 namespace {
 
+// Classes of a box around the origin, all free, and a field without evidence; cells are set
+// and read along the row y = 0 by x (m).
+class LineOfCells : public ::testing::Test {
+ protected:
+  LineOfCells() : field_(testing::centredField(3.0)), box_(field_.activeBox()) {
+    classes_.assign(static_cast<size_t>(box_.width()) * box_.height(), CellClass::kFree);
+  }
+
+  // The class of the cells of [from_x, to_x) on the row.
+  void set(double from_x, double to_x, CellClass c) {
+    for (double x = from_x + 0.025; x < to_x; x += 0.05)
+      classes_[index(x)] = c;
+  }
+  // Glass's evidence in those cells: three hits in `bin`, misses in the twelve bins from
+  // `first_missed_bin`.
+  void addGlassEvidence(double from_x, double to_x, int bin, int first_missed_bin) {
+    for (double x = from_x + 0.025; x < to_x; x += 0.05) {
+      const CellIndex cell = field_.geometry().cellOf({x, 0.025});
+      for (int i = 0; i < 3; ++i)
+        field_.applyHit(cell, bin);
+      for (int missed = first_missed_bin; missed < first_missed_bin + 12; ++missed)
+        field_.applyMiss(cell, missed);
+    }
+  }
+  size_t index(double x) const {
+    return static_cast<size_t>(box_.indexOf(field_.geometry().cellOf({x, 0.025})));
+  }
+  int cellsOf(double from_x, double to_x, CellClass c) const {
+    int n = 0;
+    for (double x = from_x + 0.025; x < to_x; x += 0.05)
+      n += classes_[index(x)] == c;
+    return n;
+  }
+
+  static constexpr int kNormalBin = 45;  // 90 deg: across the row
+  ReflectanceField field_;
+  CellBox box_;
+  std::vector<CellClass> classes_;
+};
+
 // A facade along y = 0 as motion removal leaves it (west to east): a wall, 1 m of free cells the
 // robot never faced, a mullion, a 0.75 m pane whose cells make no run of their own (the field
 // holds nothing for them), a mullion, and 1 m of glass that returned near its normal (bin 45,
 // 90 deg) and was missed from twelve other directions: a run.
-class FacadeLine : public ::testing::Test {
+class FacadeLine : public LineOfCells {
  protected:
-  FacadeLine() : field_(testing::centredField(3.0)), box_(field_.activeBox()) {
-    classes_.assign(static_cast<size_t>(box_.width()) * box_.height(), CellClass::kFree);
+  FacadeLine() {
     set(-1.40, -1.35, CellClass::kStatic);  // wall
     set(-0.35, -0.30, CellClass::kStatic);  // mullion
     set(-0.30, 0.45, CellClass::kGlass);    // pane, no run
     set(0.45, 0.50, CellClass::kStatic);    // mullion
     set(0.50, 1.50, CellClass::kGlass);     // the run
-    for (double x = 0.525; x < 1.5; x += 0.05) {
-      const CellIndex cell = field_.geometry().cellOf({x, 0.025});
-      for (int i = 0; i < 3; ++i)
-        field_.applyHit(cell, kNormalBin);
-      for (int bin = 0; bin < 12; ++bin)
-        field_.applyMiss(cell, bin);
-    }
+    addGlassEvidence(0.50, 1.50, kNormalBin, 0);
   }
-
-  void set(double from_x, double to_x, CellClass c) {
-    for (double x = from_x + 0.025; x < to_x; x += 0.05)
-      classes_[index(x)] = c;
-  }
-  size_t index(double x) const {
-    const CellIndex cell = field_.geometry().cellOf({x, 0.025});
-    return static_cast<size_t>(box_.indexOf(cell));
-  }
-  // Cells of [from_x, to_x) that are glass.
   int glassCells(double from_x, double to_x) const {
-    int glass = 0;
-    for (double x = from_x + 0.025; x < to_x; x += 0.05)
-      glass += classes_[index(x)] == CellClass::kGlass;
-    return glass;
+    return cellsOf(from_x, to_x, CellClass::kGlass);
   }
-
-  static constexpr int kNormalBin = 45;
-  ReflectanceField field_;
-  CellBox box_;
-  std::vector<CellClass> classes_;
 };
 
 TEST_F(FacadeLine, GapBeyondAPaneThatIsNoRunIsCompleted) {
@@ -76,10 +91,9 @@ TEST_F(FacadeLine, GapLookedThroughNearTheNormalStaysOpen) {
 // A pane along y = 0 that the robot faced only in passing, as motion removal leaves it: walls
 // (static) at both ends, and between them a run of motion cells that returned near the pane's
 // normal and were missed from twelve other directions, 0.2 m short of each wall.
-class UnanchoredPane : public ::testing::Test {
+class UnanchoredPane : public LineOfCells {
  protected:
-  UnanchoredPane() : field_(testing::centredField(3.0)), box_(field_.activeBox()) {
-    classes_.assign(static_cast<size_t>(box_.width()) * box_.height(), CellClass::kFree);
+  UnanchoredPane() {
     set(-1.5, -1.0, CellClass::kStatic);
     set(0.6, 1.1, CellClass::kStatic);
   }
@@ -87,32 +101,8 @@ class UnanchoredPane : public ::testing::Test {
   // The run from `from_x` to `to_x`, returning in `bin`.
   void addRun(double from_x, double to_x, int bin) {
     set(from_x, to_x, CellClass::kMotion);
-    for (double x = from_x + 0.025; x < to_x; x += 0.05) {
-      const CellIndex cell = field_.geometry().cellOf({x, 0.025});
-      for (int i = 0; i < 3; ++i)
-        field_.applyHit(cell, bin);
-      for (int missed = 60; missed < 72; ++missed)
-        field_.applyMiss(cell, missed);
-    }
+    addGlassEvidence(from_x, to_x, bin, 60);
   }
-  void set(double from_x, double to_x, CellClass c) {
-    for (double x = from_x + 0.025; x < to_x; x += 0.05)
-      classes_[index(x)] = c;
-  }
-  size_t index(double x) const {
-    return static_cast<size_t>(box_.indexOf(field_.geometry().cellOf({x, 0.025})));
-  }
-  int cellsOf(double from_x, double to_x, CellClass c) const {
-    int n = 0;
-    for (double x = from_x + 0.025; x < to_x; x += 0.05)
-      n += classes_[index(x)] == c;
-    return n;
-  }
-
-  static constexpr int kNormalBin = 45;  // 90 deg: across the line
-  ReflectanceField field_;
-  CellBox box_;
-  std::vector<CellClass> classes_;
 };
 
 TEST_F(UnanchoredPane, RunBetweenStructureIsGlass) {
