@@ -17,14 +17,12 @@ import sys
 
 import rosbag
 
+from sim_bag_io import yaw_of
+
 SHORT_RANGE = 8.0  # m
 NOISE_XY = 0.03  # m
 NOISE_YAW = math.radians(0.7)
 VARIANTS = ("half", "beams2", "noise", "short")
-
-
-def yaw_of(q):
-    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
 
 
 def main():
