@@ -90,6 +90,27 @@ TEST(PaneShape, BlobsShortRunsAndPilesAreOnNoPane) {
   EXPECT_EQ(grid.at(0, 0), CellClass::kFree);
 }
 
+TEST(PaneShape, SpecksOfGlassInAWallAreNoPane) {
+  Grid grid;
+  // A wall 30 cells long, its face seen through here and there by grazing rays: glass specks of
+  // one to three cells in it, and one stretch of four (20 cm), as short as a pane can be.
+  for (int x = 10; x < 40; ++x)
+    grid.set(x, 20, CellClass::kStatic);
+  grid.set(12, 20, CellClass::kGlass);
+  grid.set(15, 21, CellClass::kGlass);  // on the wall's face, beside it
+  grid.set(16, 21, CellClass::kMetal);  // glass and metal join one speck
+  for (int x = 20; x < 23; ++x)
+    grid.set(x, 20, CellClass::kGlass);
+  for (int x = 30; x < 34; ++x)
+    grid.set(x, 20, CellClass::kGlass);
+  EXPECT_EQ(grid.drawStatic(), 6u);
+  EXPECT_EQ(grid.at(12, 20), CellClass::kStatic);
+  EXPECT_EQ(grid.at(16, 21), CellClass::kStatic);
+  EXPECT_EQ(grid.at(21, 20), CellClass::kStatic);
+  for (int x = 30; x < 34; ++x)
+    EXPECT_EQ(grid.at(x, 20), CellClass::kGlass) << x;
+}
+
 TEST(PaneShape, MotionAndFreeCellsDoNotJoinAPane) {
   Grid grid;
   // Glass continued by a trail of motion: three glass cells are no pane.

@@ -23,12 +23,16 @@ namespace rfm {
 //
 // A cell lies on a pane when the obstacle cells 8-connected to it within kWindowRadius cells lie
 // within kMaxHalfThickness cells of their principal line and span at least kMinLength cells
-// along it.
+// along it. Its pane's glass is also at least kMinGlassCells glass or metal cells 8-connected:
+// a speck of one to three cells on a wall's line is the wall's face, seen through by rays that
+// graze it, not a pane.
 class PaneShape {
  public:
   static constexpr int kWindowRadius = 4;
   static constexpr double kMinLength = 5.0;
   static constexpr double kMaxHalfThickness = 2.5;
+  // A pane's glass (or metal) cells: at least this many 8-connected.
+  static constexpr int kMinGlassCells = 4;
 
   // Whether the cell lies on a pane; class_at(CellIndex) gives any cell's class (unknown where
   // nothing is known).
@@ -57,9 +61,10 @@ struct OffPaneCells {
   size_t glass = 0, metal = 0;
 };
 
-// Draws the glass and metal cells of `classes` (row-major over `box`) that lie on no pane static;
-// cells outside the box count as unknown. A cell drawn static stays an obstacle, so the result
-// does not depend on the order of cells.
+// Draws the glass and metal cells of `classes` (row-major over `box`) that lie on no pane, or in a
+// speck of fewer than PaneShape::kMinGlassCells, static; cells outside the box count as unknown.
+// Specks are found in the classes as given, and a cell drawn static stays an obstacle, so the
+// result does not depend on the order of cells.
 OffPaneCells drawStaticOffPane(const CellBox& box, std::vector<CellClass>& classes,
                                PaneShape& panes);
 
