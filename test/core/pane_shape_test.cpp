@@ -111,6 +111,15 @@ TEST(PaneShape, SpecksOfGlassInAWallAreNoPane) {
     EXPECT_EQ(grid.at(x, 20), CellClass::kGlass) << x;
 }
 
+TEST(PaneShape, SpecksAreMeasuredAfreshOnEveryCall) {
+  PaneShape panes;
+  std::vector<CellClass> pane(10, CellClass::kGlass);  // a box of 10 x 1 cells: a pane
+  EXPECT_TRUE(drawStaticOffPane({{0, 0}, {10, 1}}, pane, panes).cells.empty());
+  std::vector<CellClass> wall(10, CellClass::kStatic);  // the same cells: a wall with a speck
+  wall[4] = CellClass::kGlass;
+  EXPECT_EQ(drawStaticOffPane({{0, 0}, {10, 1}}, wall, panes).cells, std::vector<int>{4});
+}
+
 TEST(PaneShape, MotionAndFreeCellsDoNotJoinAPane) {
   Grid grid;
   // Glass continued by a trail of motion: three glass cells are no pane.

@@ -39,7 +39,14 @@ class PaneShape {
   template <typename ClassAt>
   bool onPane(const CellIndex& cell, ClassAt&& class_at);
 
+  // Whether the glass or metal cell `index` of `classes` (row-major over `box`) lies in an
+  // 8-connected group of at least kMinGlassCells glass and metal cells. A group is measured once,
+  // at the first of its cells asked about, and remembered until forgetGroups().
+  bool inPaneSizedGroup(const CellBox& box, const std::vector<CellClass>& classes, int index);
+  void forgetGroups();
+
  private:
+  enum GroupMark : uint8_t { kUngrouped, kSmallGroup, kPaneSizedGroup };
   static constexpr int kSide = 2 * kWindowRadius + 1;
   static int local(int dx, int dy) { return (dy + kWindowRadius) * kSide + dx + kWindowRadius; }
   // Whether members_ line up as a pane's cells do.
@@ -48,6 +55,8 @@ class PaneShape {
   std::array<uint8_t, kSide * kSide> seen_{};
   std::vector<Eigen::Vector2d> members_;  // offsets (cells) from the cell judged
   std::vector<int> stack_;
+  std::vector<GroupMark> group_of_;  // per cell of the classes; kUngrouped but for grouped_
+  std::vector<int> grouped_;         // the cells measured since forgetGroups()
 };
 
 inline bool isGlassOrMetal(CellClass c) {
