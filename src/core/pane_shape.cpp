@@ -14,37 +14,31 @@ bool PaneShape::lineUp() const {
 
 bool PaneShape::inPaneSizedGroup(const CellBox& box, const std::vector<CellClass>& classes,
                                  int index) {
-  if (group_of_.size() < classes.size()) group_of_.resize(classes.size(), kUngrouped);
-  if (group_of_[index] == kUngrouped) {
-    // Flood the 8-connected glass and metal cells from this one; the group's cells follow
-    // grouped_'s end.
-    const int width = box.width(), height = box.height();
-    const size_t first = grouped_.size();
-    group_of_[index] = kSmallGroup;
-    grouped_.push_back(index);
-    for (size_t next = first; next < grouped_.size(); ++next) {
-      const int x = grouped_[next] % width, y = grouped_[next] / width;
-      for (int ny = std::max(y - 1, 0); ny <= std::min(y + 1, height - 1); ++ny) {
-        for (int nx = std::max(x - 1, 0); nx <= std::min(x + 1, width - 1); ++nx) {
-          const int n = ny * width + nx;
-          if (group_of_[n] != kUngrouped || !isGlassOrMetal(classes[n])) continue;
-          group_of_[n] = kSmallGroup;
-          grouped_.push_back(n);
-        }
+  if (const auto known = group_of_.find(index); known != group_of_.end()) {
+    return known->second == kPaneSizedGroup;
+  }
+  // Flood the 8-connected glass and metal cells from this one.
+  const int width = box.width(), height = box.height();
+  flood_.assign(1, index);
+  group_of_.emplace(index, kSmallGroup);
+  for (size_t next = 0; next < flood_.size(); ++next) {
+    const int x = flood_[next] % width, y = flood_[next] / width;
+    for (int ny = std::max(y - 1, 0); ny <= std::min(y + 1, height - 1); ++ny) {
+      for (int nx = std::max(x - 1, 0); nx <= std::min(x + 1, width - 1); ++nx) {
+        const int n = ny * width + nx;
+        if (!isGlassOrMetal(classes[n]) || !group_of_.emplace(n, kSmallGroup).second) continue;
+        flood_.push_back(n);
       }
     }
-    if (grouped_.size() - first >= static_cast<size_t>(kMinGlassCells)) {
-      for (size_t g = first; g < grouped_.size(); ++g)
-        group_of_[grouped_[g]] = kPaneSizedGroup;
-    }
   }
-  return group_of_[index] == kPaneSizedGroup;
+  if (flood_.size() < static_cast<size_t>(kMinGlassCells)) return false;
+  for (const int i : flood_)
+    group_of_[i] = kPaneSizedGroup;
+  return true;
 }
 
 void PaneShape::forgetGroups() {
-  for (const int i : grouped_)
-    group_of_[i] = kUngrouped;
-  grouped_.clear();
+  group_of_.clear();
 }
 
 OffPaneCells drawStaticOffPane(const CellBox& box, std::vector<CellClass>& classes,

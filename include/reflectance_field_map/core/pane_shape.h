@@ -10,6 +10,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 namespace rfm {
@@ -46,7 +47,7 @@ class PaneShape {
   void forgetGroups();
 
  private:
-  enum GroupMark : uint8_t { kUngrouped, kSmallGroup, kPaneSizedGroup };
+  enum GroupMark : uint8_t { kSmallGroup, kPaneSizedGroup };
   static constexpr int kSide = 2 * kWindowRadius + 1;
   static int local(int dx, int dy) { return (dy + kWindowRadius) * kSide + dx + kWindowRadius; }
   // Whether members_ line up as a pane's cells do.
@@ -55,8 +56,10 @@ class PaneShape {
   std::array<uint8_t, kSide * kSide> seen_{};
   std::vector<Eigen::Vector2d> members_;  // offsets (cells) from the cell judged
   std::vector<int> stack_;
-  std::vector<GroupMark> group_of_;  // per cell of the classes; kUngrouped but for grouped_
-  std::vector<int> grouped_;         // the cells measured since forgetGroups()
+  // The glass and metal cells measured since forgetGroups() (few: a map over the cells would
+  // take a byte for every cell of the box).
+  std::unordered_map<int, GroupMark> group_of_;
+  std::vector<int> flood_;
 };
 
 inline bool isGlassOrMetal(CellClass c) {
