@@ -56,8 +56,8 @@ class PaneShape {
   std::array<uint8_t, kSide * kSide> seen_{};
   std::vector<Eigen::Vector2d> members_;  // offsets (cells) from the cell judged
   std::vector<int> stack_;
-  // The glass and metal cells measured since forgetGroups() (few: a map over the cells would
-  // take a byte for every cell of the box).
+  // The glass and metal cells measured since forgetGroups(): few, where an array over the box
+  // would take a byte for each of its cells.
   std::unordered_map<int, GroupMark> group_of_;
   std::vector<int> flood_;
 };
