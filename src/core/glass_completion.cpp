@@ -51,26 +51,16 @@ void GlassCompletion::collectRuns(const ReflectanceField& field, const CellBox& 
     const int start = static_cast<int>(found - first);
     if (visited_[start]) continue;
     // 8-connected component of cells of the class.
-    members.clear();
-    stack.assign(1, start);
     visited_[start] = 1;
-    while (!stack.empty()) {
-      const int i = stack.back();
-      stack.pop_back();
-      members.push_back(i);
-      visited_cells_.push_back(i);
-      const int x = i % width, y = i / width;
-      for (int dy = -1; dy <= 1; ++dy) {
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int nx = x + dx, ny = y + dy;
-          if (nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
-          const int n = ny * width + nx;
-          if (classes[n] != of_class || visited_[n]) continue;
+    collect8Connected(
+        width, height, start,
+        [&](int n) {
+          if (classes[n] != of_class || visited_[n]) return false;
           visited_[n] = 1;
-          stack.push_back(n);
-        }
-      }
-    }
+          return true;
+        },
+        stack, members);
+    visited_cells_.insert(visited_cells_.end(), members.begin(), members.end());
     if (members.size() < kMinRunCells) continue;
     Run run;
     if (describeRun(field, box, members, run)) {

@@ -17,22 +17,13 @@ bool PaneShape::inPaneSizedGroup(const CellBox& box, const std::vector<CellClass
   if (const auto known = group_of_.find(index); known != group_of_.end()) {
     return known->second == kPaneSizedGroup;
   }
-  // Flood the 8-connected glass and metal cells from this one.
-  const int width = box.width(), height = box.height();
-  flood_.assign(1, index);
   group_of_.emplace(index, kSmallGroup);
-  for (size_t next = 0; next < flood_.size(); ++next) {
-    const int x = flood_[next] % width, y = flood_[next] / width;
-    for (int ny = std::max(y - 1, 0); ny <= std::min(y + 1, height - 1); ++ny) {
-      for (int nx = std::max(x - 1, 0); nx <= std::min(x + 1, width - 1); ++nx) {
-        const int n = ny * width + nx;
-        if (!isGlassOrMetal(classes[n]) || !group_of_.emplace(n, kSmallGroup).second) continue;
-        flood_.push_back(n);
-      }
-    }
-  }
-  if (flood_.size() < static_cast<size_t>(kMinGlassCells)) return false;
-  for (const int i : flood_)
+  collect8Connected(
+      box.width(), box.height(), index,
+      [&](int n) { return isGlassOrMetal(classes[n]) && group_of_.emplace(n, kSmallGroup).second; },
+      stack_, group_);
+  if (group_.size() < static_cast<size_t>(kMinGlassCells)) return false;
+  for (const int i : group_)
     group_of_[i] = kPaneSizedGroup;
   return true;
 }

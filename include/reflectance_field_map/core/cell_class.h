@@ -2,6 +2,7 @@
 
 #include "reflectance_field_map/core/grid_geometry.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -45,6 +46,29 @@ const char* toString(CellClass c);
 inline CellClass classInBox(const CellBox& box, const std::vector<CellClass>& classes,
                             const CellIndex& cell) {
   return box.contains(cell) ? classes[box.indexOf(cell)] : CellClass::kUnknown;
+}
+
+// The cells 8-connected to `start` in a row-major box of `width` x `height` cells, into `members`
+// (depth first; `start` first). claim(index) takes a neighbour into the group: it returns false
+// for a cell that is no member or was taken before, and marks the others taken. `start` must be
+// taken already; `stack` is scratch.
+template <typename Claim>
+void collect8Connected(int width, int height, int start, Claim&& claim, std::vector<int>& stack,
+                       std::vector<int>& members) {
+  members.clear();
+  stack.assign(1, start);
+  while (!stack.empty()) {
+    const int i = stack.back();
+    stack.pop_back();
+    members.push_back(i);
+    const int x = i % width, y = i / width;
+    for (int ny = std::max(y - 1, 0); ny <= std::min(y + 1, height - 1); ++ny) {
+      for (int nx = std::max(x - 1, 0); nx <= std::min(x + 1, width - 1); ++nx) {
+        const int n = ny * width + nx;
+        if (n != i && claim(n)) stack.push_back(n);
+      }
+    }
+  }
 }
 
 }  // namespace rfm

@@ -55,11 +55,11 @@ class PaneShape {
 
   std::array<uint8_t, kSide * kSide> seen_{};
   std::vector<Eigen::Vector2d> members_;  // offsets (cells) from the cell judged
-  std::vector<int> stack_;
+  std::vector<int> stack_;                // scratch of onPane and of measuring a group
   // The glass and metal cells measured since forgetGroups(): few, where an array over the box
   // would take a byte for each of its cells.
   std::unordered_map<int, GroupMark> group_of_;
-  std::vector<int> flood_;
+  std::vector<int> group_;  // the group last measured
 };
 
 inline bool isGlassOrMetal(CellClass c) {
