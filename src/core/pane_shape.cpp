@@ -7,8 +7,9 @@
 
 namespace rfm {
 
-bool PaneShape::lineUp() const {
+bool PaneShape::lineUp() {
   const LineFit line = fitLine(members_);
+  line_direction_ = line.direction;
   return line.across <= kMaxHalfThickness && line.last - line.first + 1.0 >= kMinLength;
 }
 
@@ -33,14 +34,20 @@ void PaneShape::forgetGroups() {
 }
 
 OffPaneCells drawStaticOffPane(const CellBox& box, std::vector<CellClass>& classes,
-                               PaneShape& panes) {
+                               PaneShape& panes, const FacesNormal& faces_normal) {
   auto class_at = [&](const CellIndex& cell) { return classInBox(box, classes, cell); };
   OffPaneCells drawn;
   // A group is measured when its first cell (in index order) is reached, before any of its cells
   // is redrawn: cells redrawn earlier belong to other groups.
   for (int i = 0; i < static_cast<int>(classes.size()); ++i) {
     if (!isGlassOrMetal(classes[i])) continue;
-    if (panes.inPaneSizedGroup(box, classes, i) && panes.onPane(box.cellAt(i), class_at)) continue;
+    if (panes.inPaneSizedGroup(box, classes, i) && panes.onPane(box.cellAt(i), class_at)) {
+      const Eigen::Vector2d& along = panes.lineDirection();
+      if (!faces_normal ||
+          faces_normal(i, Eigen::Vector2d(-along.y(), along.x()), PaneShape::kMaxLobeOffNormal)) {
+        continue;
+      }
+    }
     ++(classes[i] == CellClass::kGlass ? drawn.glass : drawn.metal);
     classes[i] = CellClass::kStatic;
     drawn.cells.push_back(i);

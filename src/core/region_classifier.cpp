@@ -38,8 +38,12 @@ MotionRemovalCounts RegionClassifier::classify(const ReflectanceField& field,
     ++counts.glass_cells;
   }
   counts.motion_cells -= completion_.turnedFromMotion();
-  // Glass and metal on no pane: static.
-  const OffPaneCells off_pane = drawStaticOffPane(box, region_.classes, panes_);
+  // Glass and metal on no pane, or not facing it: static.
+  auto faces_normal = [&](int i, const Eigen::Vector2d& normal, double max_off) {
+    const int slot = window.storageIndex(box.cellAt(i));
+    return !field.anyReflectiveAt(slot) || field.reflectsNearAxisAt(slot, normal, max_off);
+  };
+  const OffPaneCells off_pane = drawStaticOffPane(box, region_.classes, panes_, faces_normal);
   for (int i : off_pane.cells) {
     if (redrawn_tiles.empty() || redrawn_tiles.back() != tile_of(i)) {
       redrawn_tiles.push_back(tile_of(i));

@@ -120,6 +120,38 @@ TEST(PaneShape, SpecksAreMeasuredAfreshOnEveryCall) {
   EXPECT_EQ(drawStaticOffPane({{0, 0}, {10, 1}}, wall, panes).cells, std::vector<int>{4});
 }
 
+TEST(PaneShape, GlassThatReflectsOnlyFarFromItsPanesNormalIsNoPane) {
+  // A line of glass along x (normal along y) whose cells reflect in directions given by index.
+  const CellBox box{{0, 0}, {20, 3}};
+  std::vector<CellClass> classes(20 * 3, CellClass::kFree);
+  std::vector<std::vector<double>> reflects_at(classes.size());  // rad, world directions
+  for (int x = 2; x < 18; ++x) {
+    classes[20 + x] = CellClass::kGlass;
+    reflects_at[20 + x] = {M_PI / 2.0};  // faced: seen along the normal
+  }
+  reflects_at[20 + 5] = {M_PI / 4.0};                    // only 45 deg off: a reflection's image
+  reflects_at[20 + 6] = {-M_PI / 2.0 + 0.1};             // faced from the other side
+  reflects_at[20 + 7] = {M_PI / 4.0, M_PI / 2.0};        // faced, and a speck of dirt elsewhere
+  reflects_at[20 + 8] = {};                              // no reflective direction: completed glass
+  reflects_at[20 + 9] = {0.0, M_PI, M_PI / 4.0 + M_PI};  // along the line and oblique only
+  const FacesNormal faces_normal = [&](int i, const Eigen::Vector2d& normal, double max_off) {
+    if (reflects_at[i].empty()) return true;
+    for (const double a : reflects_at[i]) {
+      if (std::abs(std::cos(a) * normal.x() + std::sin(a) * normal.y()) >= std::cos(max_off)) {
+        return true;
+      }
+    }
+    return false;
+  };
+  PaneShape panes;
+  const OffPaneCells drawn = drawStaticOffPane(box, classes, panes, faces_normal);
+  EXPECT_EQ(drawn.cells, (std::vector<int>{20 + 5, 20 + 9}));
+  EXPECT_EQ(classes[20 + 5], CellClass::kStatic);
+  EXPECT_EQ(classes[20 + 6], CellClass::kGlass);
+  EXPECT_EQ(classes[20 + 7], CellClass::kGlass);
+  EXPECT_EQ(classes[20 + 8], CellClass::kGlass);
+}
+
 TEST(PaneShape, MotionAndFreeCellsDoNotJoinAPane) {
   Grid grid;
   // Glass continued by a trail of motion: three glass cells are no pane.

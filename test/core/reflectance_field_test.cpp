@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <fstream>
@@ -70,6 +71,22 @@ TEST(ReflectanceField, BayesUpdatesPerBinAndSummaries) {
   EXPECT_EQ(field.missedBins(cell), 1);
   field.applyMiss(cell, 179);
   EXPECT_EQ(field.missedBins(cell), 2);
+}
+
+TEST(ReflectanceField, ReflectsNearAnAxisEitherWayAlongIt) {
+  ReflectanceField field = smallField();  // 2 deg bins: bin b is centred on 2 b + 1 deg
+  const CellIndex cell(1, 1);
+  const int slot = field.window().storageIndex(cell);
+  const Eigen::Vector2d y_axis(0.0, 1.0);
+  const double ten_deg = 10.0 * M_PI / 180.0;
+  EXPECT_FALSE(field.reflectsNearAxisAt(slot, y_axis, ten_deg));  // reflects nowhere
+  field.applyHit(cell, 22);                                       // 45 deg
+  EXPECT_FALSE(field.reflectsNearAxisAt(slot, y_axis, ten_deg));
+  EXPECT_TRUE(field.reflectsNearAxisAt(slot, y_axis, 50.0 * M_PI / 180.0));
+  field.applyHit(cell, 130);  // 261 deg: 9 deg off -y
+  EXPECT_TRUE(field.reflectsNearAxisAt(slot, y_axis, ten_deg));
+  EXPECT_FALSE(field.reflectsNearAxisAt(slot, y_axis, 8.0 * M_PI / 180.0));
+  EXPECT_FALSE(field.reflectsNearAxisAt(slot, Eigen::Vector2d(1.0, 0.0), ten_deg));
 }
 
 TEST(ReflectanceField, ClearPutsEveryBinBackAtThePrior) {

@@ -10,6 +10,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <unordered_map>
 #include <vector>
 
@@ -26,7 +27,10 @@ namespace rfm {
 // within kMaxHalfThickness cells of their principal line and span at least kMinLength cells
 // along it. Its pane's glass is also at least kMinGlassCells glass or metal cells 8-connected:
 // a speck of one to three cells on a wall's line is the wall's face, seen through by rays that
-// graze it, not a pane.
+// graze it, not a pane. And a cell of a pane that reflects at all reflects near the pane's
+// normal: glass returns within a few degrees of it, metal within its lobe. A line seen only
+// obliquely is the image of a wall in a pane or a mirror (the folded rays draw it where nothing
+// is, the same from wherever they bounce) or a wall's face seen grazing, not glass.
 class PaneShape {
  public:
   static constexpr int kWindowRadius = 4;
@@ -34,6 +38,9 @@ class PaneShape {
   static constexpr double kMaxHalfThickness = 2.5;
   // A pane's glass (or metal) cells: at least this many 8-connected.
   static constexpr int kMinGlassCells = 4;
+  // A pane's glass (or metal) cell reflects in some direction within this angle of the pane's
+  // normal (35 deg, rad).
+  static constexpr double kMaxLobeOffNormal = 0.6108652381980153;
 
   // Whether the cell lies on a pane; class_at(CellIndex) gives any cell's class (unknown where
   // nothing is known).
@@ -45,17 +52,20 @@ class PaneShape {
   // at the first of its cells asked about, and remembered until forgetGroups().
   bool inPaneSizedGroup(const CellBox& box, const std::vector<CellClass>& classes, int index);
   void forgetGroups();
+  // The direction (unit, cells) of the line onPane last fitted.
+  const Eigen::Vector2d& lineDirection() const { return line_direction_; }
 
  private:
   enum GroupMark : uint8_t { kSmallGroup, kPaneSizedGroup };
   static constexpr int kSide = 2 * kWindowRadius + 1;
   static int local(int dx, int dy) { return (dy + kWindowRadius) * kSide + dx + kWindowRadius; }
   // Whether members_ line up as a pane's cells do.
-  bool lineUp() const;
+  bool lineUp();
 
   std::array<uint8_t, kSide * kSide> seen_{};
   std::vector<Eigen::Vector2d> members_;  // offsets (cells) from the cell judged
-  std::vector<int> stack_;                // scratch of onPane and of measuring a group
+  Eigen::Vector2d line_direction_ = Eigen::Vector2d::UnitX();
+  std::vector<int> stack_;  // scratch of onPane and of measuring a group
   // The glass and metal cells measured since forgetGroups(): few, where an array over the box
   // would take a byte for each of its cells.
   std::unordered_map<int, GroupMark> group_of_;
@@ -73,12 +83,18 @@ struct OffPaneCells {
   size_t glass = 0, metal = 0;
 };
 
+// Whether a cell of `classes` (by index) reflects in some direction within `max_off` (rad) of the
+// axis `normal` (unit, either way along it), or reflects in none (glass completed where the robot
+// never faced it).
+using FacesNormal = std::function<bool(int index, const Eigen::Vector2d& normal, double max_off)>;
+
 // Draws the glass and metal cells of `classes` (row-major over `box`) that lie on no pane, or in a
-// speck of fewer than PaneShape::kMinGlassCells, static; cells outside the box count as unknown.
-// Specks are found in the classes as given, and a cell drawn static stays an obstacle, so the
-// result does not depend on the order of cells.
+// speck of fewer than PaneShape::kMinGlassCells, or that do not face their pane (`faces_normal`,
+// when given), static; cells outside the box count as unknown. Specks are found in the classes as
+// given, and a cell drawn static stays an obstacle, so the result does not depend on the order of
+// cells.
 OffPaneCells drawStaticOffPane(const CellBox& box, std::vector<CellClass>& classes,
-                               PaneShape& panes);
+                               PaneShape& panes, const FacesNormal& faces_normal = {});
 
 template <typename ClassAt>
 bool PaneShape::onPane(const CellIndex& cell, ClassAt&& class_at) {

@@ -182,6 +182,9 @@ class ReflectanceField {
     return &reflective_masks_[static_cast<size_t>(storage_index) * mask_words_];
   }
   int missedBinsAt(int storage_index) const { return missed_bins_[storage_index]; }
+  // Whether the cell reflects in some direction within `max_off` (rad) of `axis` (unit), either
+  // way along it.
+  bool reflectsNearAxisAt(int storage_index, const Eigen::Vector2d& axis, double max_off) const;
   double marginalOddsAt(int storage_index) const;
   // The part of marginalOddsAt's sum (without the bin width) from the reflective bins alone.
   double reflectiveOddsAt(int storage_index) const;
