@@ -129,15 +129,13 @@ double ReflectanceField::marginalOdds(const CellIndex& cell) const {
 
 bool ReflectanceField::reflectsNearAxisAt(int storage_index, const Eigen::Vector2d& axis,
                                           double max_off) const {
-  const uint64_t* mask = reflectiveMaskAt(storage_index);
   const double min_cos = std::cos(max_off);
-  for (int word = 0; word < mask_words_; ++word) {
-    for (uint64_t bits = mask[word]; bits != 0; bits &= bits - 1) {
-      const double angle = geometry_.binCenter(64 * word + __builtin_ctzll(bits));
-      if (std::abs(std::cos(angle) * axis.x() + std::sin(angle) * axis.y()) >= min_cos) return true;
-    }
-  }
-  return false;
+  bool near = false;
+  forEachMaskBit(reflectiveMaskAt(storage_index), mask_words_, [&](int bin) {
+    const double angle = geometry_.binCenter(bin);
+    near |= std::abs(std::cos(angle) * axis.x() + std::sin(angle) * axis.y()) >= min_cos;
+  });
+  return near;
 }
 
 double ReflectanceField::marginalOddsAt(int storage_index) const {
