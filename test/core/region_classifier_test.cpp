@@ -74,5 +74,41 @@ TEST_F(RegionClassifierTest, TilesMotionRemovalReusedAreNotWrittenAgain) {
   EXPECT_EQ(map_.get(free_), CellClass::kFree);
 }
 
+// Two lines of cells between widely visible frames, each glass by motion removal's rules (anchored
+// by a frame, seen through from elsewhere): one returns along its normal, a pane; the other only
+// 40 deg off it, as the image of a wall in a mirror does: static.
+TEST(RegionClassifier, GlassThatNeverReturnedNearItsNormalIsDrawnStatic) {
+  ReflectanceField field = testing::centredField(2.0);
+  const GridGeometry& geometry = field.geometry();  // 2 deg bins
+  auto line_of = [&](double y, int first_bin, int last_bin) {
+    for (int k = -10; k <= 10; ++k) {
+      const CellIndex cell = geometry.cellOf({0.05 * k + 0.025, y});
+      const bool frame = k == -10 || k == 10;
+      for (int bin = 0; bin < geometry.thetaBins(); ++bin) {
+        const bool reflects =
+            frame ? (bin >= 20 && bin < 70) : (bin >= first_bin && bin <= last_bin);
+        for (int i = 0; i < 4; ++i)
+          reflects ? field.applyHit(cell, bin) : field.applyMiss(cell, bin);
+      }
+    }
+  };
+  line_of(-0.475, 44, 45);  // faced: 88-92 deg, the line's normal
+  line_of(0.525, 24, 25);   // 48-52 deg only
+  const OccupancyRule rule(OccupancyOptions(), geometry.binWidth());
+  MotionRemover motion(rule);
+  RegionClassifier classifier(rule, &motion, GlassCompletion(geometry, 0.0));
+  AnchorHistory history(field);
+  GlobalMap2D map;
+  classifier.classify(field, history, map, nullptr);
+  for (int k = -8; k <= 8; ++k) {
+    EXPECT_EQ(classifier.region().at(geometry.cellOf({0.05 * k + 0.025, -0.475})),
+              CellClass::kGlass)
+        << k;
+    EXPECT_EQ(classifier.region().at(geometry.cellOf({0.05 * k + 0.025, 0.525})),
+              CellClass::kStatic)
+        << k;
+  }
+}
+
 }  // namespace
 }  // namespace rfm
