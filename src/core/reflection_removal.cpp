@@ -14,8 +14,10 @@
 namespace rfm {
 namespace {
 
+using detail::besideGlassOrMetal;
 using detail::PassThroughDetector;
 using detail::SharedLeap;
+using detail::staticCellLetsPass;
 
 // Metres along a ray (unit `direction`) per cell along its major axis. No cell within Chebyshev
 // distance c of a cell blocks: then neither does the ray's stretch of c of these from any point
@@ -189,13 +191,14 @@ double ReflectionRemover::walkTowardsGlass(const Ray& ray, PassThroughDetector& 
         ray.origin + direction * from, last, geometry.inverseResolution(), field_.window(), true,
         [&](int slot, int x, int y) {
           const CellClass c = classes_.atSlot(slot);
-          // Asked only of static cells: they let the ray pass where they reflect, and wherever
-          // the directions they reflect in are too few to tell (static_blocking_min_angle).
+          // Asked only of static cells: whether they let the ray pass (staticCellLetsPass).
           auto reflective_near = [&](int bin) {
             const uint64_t* mask =
                 frozen_.active() ? frozen_.maskOf({x, y}) : field_.reflectiveMaskAt(slot);
-            return reflectiveNear(mask, bin, bins) ||
-                   (mask && countMaskBits(mask, field_.maskWords()) < static_blocking_min_bins_);
+            return staticCellLetsPass(mask, field_.maskWords(), bin, bins,
+                                      static_blocking_min_bins_, [&] {
+                                        return besideGlassOrMetal({x, y}, class_of);
+                                      });
           };
           if (!blocksRays(c)) {
             if (detector.blocked()) return detector.visit({x, y}, c, reflective_near, class_of);

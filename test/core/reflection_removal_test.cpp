@@ -522,6 +522,52 @@ TEST(ReflectionRemoval, StaticCellsSeenFromOnePlaceBlockNothing) {
   }
 }
 
+// A wall's end cell beside a pane, static, reflective over 20 deg next to a ray's direction but
+// not in it: the ray leaves through the pane's end, as the pane's reflections do, and is cut
+// there. The same cell in the middle of a wall lets it pass (a wall grazed at a shallow angle is
+// hit in neighbouring directions), and beside the pane too once it reflected in the ray's own
+// direction.
+TEST(ReflectionRemoval, StaticCellsBesideAPaneLetRaysPassOnlyInTheirOwnDirection) {
+  for (const bool pane_beside : {false, true}) {
+    for (const bool own_direction : {false, true}) {
+      ReflectanceField field = testing::centredField(4.0);
+      const GridGeometry& geometry = field.geometry();  // 2 deg bins
+      Ray ray;
+      ray.origin = {0.01, 0.025};
+      ray.end = {3.5, 0.025};
+      ray.angle = 0.0;
+      ray.hit = true;
+      const int ray_bin = geometry.binOf(ray.angle);
+      const CellIndex end_of_wall = geometry.cellOf({2.01, 0.025});
+      const int first_bin = own_direction ? ray_bin : ray_bin + 1;
+      for (int bin = first_bin; bin < first_bin + 10; ++bin) {
+        for (int i = 0; i < 4; ++i)
+          field.applyHit(end_of_wall, bin);
+      }
+      GlobalMap2D map;
+      ActiveClasses classes(field.window(), map, 0);
+      ClassifiedRegion region;
+      region.box = field.window().box();
+      region.classes.assign(static_cast<size_t>(region.box.width()) * region.box.height(),
+                            CellClass::kFree);
+      for (int dy = -10; dy <= 10; ++dy) {
+        const CellIndex cell(end_of_wall.x(), end_of_wall.y() + dy);
+        const bool pane = pane_beside && dy > 0;
+        region.classes[region.box.indexOf(cell)] = pane ? CellClass::kGlass : CellClass::kStatic;
+      }
+      classes.replace(region, nullptr);
+      const ReflectionRemover remover(ReflectionRemovalOptions(), field, classes);
+      double through = -1.0;
+      remover.passThroughDistances(&ray, 1, &through);
+      if (pane_beside && !own_direction) {
+        EXPECT_NEAR(through, geometry.cellCenter(end_of_wall).x() - ray.origin.x(), 1e-9);
+      } else {
+        EXPECT_LT(through, 0.0) << pane_beside << own_direction;
+      }
+    }
+  }
+}
+
 // Eight neighbouring beams leap together on the middle one's clearance: the fan widens with
 // distance, so the group must stop before the outermost beam reaches a blocking cell that the
 // middle beam passes three cells away.
@@ -585,9 +631,9 @@ TEST(ReflectionRemoval, LeapingCheckDecidesEveryBeamAsAFullWalk) {
       testing::scenarioOptions().reflection_removal.static_blocking_min_angle / g.binWidth() -
       1e-9));
   auto reflective_near = [&](const CellIndex& c, int bin) {
-    const uint64_t* mask = mapper.field().reflectiveMask(c);
-    return reflectiveNear(mask, bin, bins) ||
-           (mask && countMaskBits(mask, mapper.field().maskWords()) < static_blocking_min_bins);
+    return detail::staticCellLetsPass(mapper.field().reflectiveMask(c), mapper.field().maskWords(),
+                                      bin, bins, static_blocking_min_bins,
+                                      [&] { return detail::besideGlassOrMetal(c, class_of); });
   };
   size_t reflections = 0, beams = 0;
   for (const Pose2D& robot : {Pose2D{{0.0, 2.0}, 0.3}, Pose2D{{0.0, 4.5}, -0.6},

@@ -38,9 +38,9 @@ class ReflectionRemover {
 
   // For rays inside the window: the distance along each of the first blocking cell it passes
   // through, negative where it passes none (distances[0, count)). A blocking cell is glass or
-  // metal, or static, reflective over at least static_blocking_min_angle and not in the ray's
-  // direction (for a ray with a return); the ray must cross it near a cell centre and leave it
-  // more than penetration_tolerance before its end.
+  // metal, or static, reflective over at least static_blocking_min_angle and not in or next to
+  // the ray's direction (for a ray with a return; beside glass or metal, not in it); the ray
+  // must cross it near a cell centre and leave it more than penetration_tolerance before its end.
   void passThroughDistances(const Ray* rays, size_t count, double* distances) const;
   // Cuts the rays (inside the window) that pass through a blocking cell just past it; each
   // return cut becomes REFLECTION in labels (by beam). With a runner, rays on its threads.

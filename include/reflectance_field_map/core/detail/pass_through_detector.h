@@ -4,12 +4,40 @@
 #include "reflectance_field_map/core/cell_class.h"
 #include "reflectance_field_map/core/grid_geometry.h"
 #include "reflectance_field_map/core/laser_scan.h"
+#include "reflectance_field_map/core/reflectance_field.h"
 
 #include <Eigen/Core>
 
 #include <cmath>
 
 namespace rfm::detail {
+
+// Whether a glass or metal cell touches `cell` (8-neighbourhood).
+template <typename ClassOf>
+bool besideGlassOrMetal(const CellIndex& cell, ClassOf&& class_of) {
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      const CellClass c = class_of(CellIndex(cell.x() + dx, cell.y() + dy));
+      if (c == CellClass::kGlass || c == CellClass::kMetal) return true;
+    }
+  }
+  return false;
+}
+
+// Whether a static cell with reflective `mask` (`words` words, null: reflective nowhere) lets a
+// returned ray of theta bin `bin` pass: where the directions it reflects in are too few to tell
+// (under `min_bins`), and where it reflects in the ray's direction or next to it (a wall grazed
+// at a shallow angle is hit in neighbouring directions). Beside glass or metal
+// (beside_glass_or_metal(), asked last: a pane's end drawn static, its frame) only the ray's own
+// direction counts: the neighbouring ones are where the pane's reflections pass.
+template <typename BesideGlassOrMetal>
+bool staticCellLetsPass(const uint64_t* mask, int words, int bin, int bins, int min_bins,
+                        BesideGlassOrMetal&& beside_glass_or_metal) {
+  if (!mask) return false;
+  if (countMaskBits(mask, words) < min_bins) return true;
+  if (maskBit(mask, bin)) return true;
+  return reflectiveNear(mask, bin, bins) && !beside_glass_or_metal();
+}
 
 // Reflection check of Alg. 3, fed cell by cell along a ray: finds the first blocking cell the
 // ray passes through. A blocking cell is glass or metal, or static and not reflective in the
