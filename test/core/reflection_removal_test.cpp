@@ -14,6 +14,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <string>
 
 namespace rfm {
 namespace {
@@ -559,10 +560,12 @@ TEST(ReflectionRemoval, StaticCellsBesideAPaneLetRaysPassOnlyInTheirOwnDirection
       const ReflectionRemover remover(ReflectionRemovalOptions(), field, classes);
       double through = -1.0;
       remover.passThroughDistances(&ray, 1, &through);
+      const std::string where = std::string(pane_beside ? "beside a pane" : "inside a wall") +
+                                (own_direction ? ", reflective in the ray's direction" : "");
       if (pane_beside && !own_direction) {
-        EXPECT_NEAR(through, geometry.cellCenter(end_of_wall).x() - ray.origin.x(), 1e-9);
+        EXPECT_NEAR(through, geometry.cellCenter(end_of_wall).x() - ray.origin.x(), 1e-9) << where;
       } else {
-        EXPECT_LT(through, 0.0) << pane_beside << own_direction;
+        EXPECT_LT(through, 0.0) << where;
       }
     }
   }

@@ -41,12 +41,12 @@ bool staticCellLetsPass(const uint64_t* mask, int words, int bin, int bins, int 
 
 // Reflection check of Alg. 3, fed cell by cell along a ray: finds the first blocking cell the
 // ray passes through. A blocking cell is glass or metal, or static and not reflective in the
-// ray's direction (reflective_near), that the ray passes through near its centre (not a clipped
-// corner). For a ray without a return every static cell blocks: structure that reflects in its
-// direction would have returned it (a dropout), so nothing beyond was observed. Passing through
-// means crossing it: the ray comes out into a non-obstacle cell more than `penetration_tolerance`
-// before its end. A ray grazing along a wall stays inside the wall's cells up to its end, and a
-// ray ending on a surface ends within the tolerance: neither counts.
+// ray's direction (reflective_near: staticCellLetsPass), that the ray passes through near its
+// centre (not a clipped corner). For a ray without a return every static cell blocks: structure
+// that reflects in its direction would have returned it (a dropout), so nothing beyond was
+// observed. Passing through means crossing it: the ray comes out into a non-obstacle cell more than
+// `penetration_tolerance` before its end. A ray grazing along a wall stays inside the wall's cells
+// up to its end, and a ray ending on a surface ends within the tolerance: neither counts.
 class PassThroughDetector {
  public:
   PassThroughDetector(const Ray& ray, const GridGeometry& geometry, double penetration_tolerance)
