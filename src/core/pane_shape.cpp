@@ -7,10 +7,12 @@
 
 namespace rfm {
 
-bool PaneShape::lineUp() {
+std::optional<Eigen::Vector2d> PaneShape::lineUp() const {
   const LineFit line = fitLine(members_);
-  line_direction_ = line.direction;
-  return line.across <= kMaxHalfThickness && line.last - line.first + 1.0 >= kMinLength;
+  if (line.across > kMaxHalfThickness || line.last - line.first + 1.0 < kMinLength) {
+    return std::nullopt;
+  }
+  return line.direction;
 }
 
 bool PaneShape::inPaneSizedGroup(const CellBox& box, const std::vector<CellClass>& classes,
@@ -41,10 +43,10 @@ OffPaneCells drawStaticOffPane(const CellBox& box, std::vector<CellClass>& class
   // is redrawn: cells redrawn earlier belong to other groups.
   for (int i = 0; i < static_cast<int>(classes.size()); ++i) {
     if (!isGlassOrMetal(classes[i])) continue;
-    if (panes.inPaneSizedGroup(box, classes, i) && panes.onPane(box.cellAt(i), class_at)) {
-      const Eigen::Vector2d& along = panes.lineDirection();
-      if (!faces_normal ||
-          faces_normal(i, Eigen::Vector2d(-along.y(), along.x()), PaneShape::kMaxLobeOffNormal)) {
+    if (panes.inPaneSizedGroup(box, classes, i)) {
+      const std::optional<Eigen::Vector2d> along = panes.paneDirection(box.cellAt(i), class_at);
+      if (along && (!faces_normal || faces_normal(i, Eigen::Vector2d(-along->y(), along->x()),
+                                                  PaneShape::kMaxLobeOffNormal))) {
         continue;
       }
     }

@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <unordered_map>
 #include <vector>
 
@@ -42,30 +43,27 @@ class PaneShape {
   // normal (35 deg, rad).
   static constexpr double kMaxLobeOffNormal = 0.6108652381980153;
 
-  // Whether the cell lies on a pane; class_at(CellIndex) gives any cell's class (unknown where
-  // nothing is known).
+  // The direction (unit, cells) of the pane the cell lies on, or none when it lies on no pane;
+  // class_at(CellIndex) gives any cell's class (unknown where nothing is known).
   template <typename ClassAt>
-  bool onPane(const CellIndex& cell, ClassAt&& class_at);
+  std::optional<Eigen::Vector2d> paneDirection(const CellIndex& cell, ClassAt&& class_at);
 
   // Whether the glass or metal cell `index` of `classes` (row-major over `box`) lies in an
   // 8-connected group of at least kMinGlassCells glass and metal cells. A group is measured once,
   // at the first of its cells asked about, and remembered until forgetGroups().
   bool inPaneSizedGroup(const CellBox& box, const std::vector<CellClass>& classes, int index);
   void forgetGroups();
-  // The direction (unit, cells) of the line onPane last fitted.
-  const Eigen::Vector2d& lineDirection() const { return line_direction_; }
 
  private:
   enum GroupMark : uint8_t { kSmallGroup, kPaneSizedGroup };
   static constexpr int kSide = 2 * kWindowRadius + 1;
   static int local(int dx, int dy) { return (dy + kWindowRadius) * kSide + dx + kWindowRadius; }
-  // Whether members_ line up as a pane's cells do.
-  bool lineUp();
+  // The direction of the line members_ lie along, when they line up as a pane's cells do.
+  std::optional<Eigen::Vector2d> lineUp() const;
 
   std::array<uint8_t, kSide * kSide> seen_{};
   std::vector<Eigen::Vector2d> members_;  // offsets (cells) from the cell judged
-  Eigen::Vector2d line_direction_ = Eigen::Vector2d::UnitX();
-  std::vector<int> stack_;  // scratch of onPane and of measuring a group
+  std::vector<int> stack_;                // scratch of paneDirection and of measuring a group
   // The glass and metal cells measured since forgetGroups(): few, where an array over the box
   // would take a byte for each of its cells.
   std::unordered_map<int, GroupMark> group_of_;
@@ -97,7 +95,7 @@ OffPaneCells drawStaticOffPane(const CellBox& box, std::vector<CellClass>& class
                                PaneShape& panes, const FacesNormal& faces_normal = {});
 
 template <typename ClassAt>
-bool PaneShape::onPane(const CellIndex& cell, ClassAt&& class_at) {
+std::optional<Eigen::Vector2d> PaneShape::paneDirection(const CellIndex& cell, ClassAt&& class_at) {
   auto obstacle = [](CellClass c) { return c == CellClass::kStatic || isGlassOrMetal(c); };
   // The obstacle cells connected to the cell inside the window, as offsets from it.
   seen_.fill(0);

@@ -34,8 +34,7 @@ template <typename BesideGlassOrMetal>
 bool staticCellLetsPass(const uint64_t* mask, int words, int bin, int bins, int min_bins,
                         BesideGlassOrMetal&& beside_glass_or_metal) {
   if (!mask) return false;
-  if (countMaskBits(mask, words) < min_bins) return true;
-  if (maskBit(mask, bin)) return true;
+  if (maskBit(mask, bin) || countMaskBits(mask, words) < min_bins) return true;
   return reflectiveNear(mask, bin, bins) && !beside_glass_or_metal();
 }
 
