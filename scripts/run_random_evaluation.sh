@@ -5,8 +5,8 @@
 # the labels and the class map against the simulator's truth and world with rfm_eval, and writes
 # one report grouped by setup and seed split.
 #
-#   scripts/run_random_evaluation.sh                  # a few minutes: 2 checking seeds, 40 s each
-#   SEEDS="$(seq 1001 1020)" DURATION= scripts/run_random_evaluation.sh   # bigger
+#   scripts/run_random_evaluation.sh                  # 5-20 minutes: 10 checking seeds, 40 s each
+#   SEEDS="$(seq 1001 1030)" DURATION= scripts/run_random_evaluation.sh   # bigger
 #
 # Seeds are split in two, once and for all:
 #   tuning seeds   1-100      may be used to choose a rule or a number;
@@ -14,7 +14,7 @@
 # Any other seed is reported as "other".
 #
 # Environment:
-#   SEEDS        seeds to simulate (default: 1001 1002)
+#   SEEDS        seeds to simulate (default: 1001 to 1010)
 #   SETUPS       sensor setups (default: every name rfm_sim --list-setups prints)
 #   DURATION     seconds of each scene (default 40; empty: each seed draws 40-80 s)
 #   OUT          scratch directory for bags, maps and scores (default: /tmp/rfm_random_eval)
@@ -34,7 +34,7 @@ REPO="$(git rev-parse --show-toplevel)"
 source "$REPO/scripts/workspace.sh"
 OUT="${OUT:-/tmp/rfm_random_eval}"
 REPORT="${REPORT:-$REPO/doc/random_evaluation.md}"
-SEEDS="${SEEDS:-1001 1002}"
+SEEDS="${SEEDS:-$(seq 1001 1010)}"
 DURATION="${DURATION-40}"
 FIXED_FRAME="${FIXED_FRAME:-odom}"
 read -r -a OFFLINE <<< "${RFM_OFFLINE:-rosrun reflectance_field_map rfm_offline}"
@@ -141,7 +141,7 @@ PREAMBLE="$OUT/preamble.md"
   echo "Generated $(date -u +%Y-%m-%d) from commit \`$(git -C "$REPO" rev-parse --short HEAD)\`"
   echo "in about $minutes minute(s) on $(nproc) cores. Reproduce or enlarge it:"
   echo
-  echo '    scripts/run_random_evaluation.sh   # SEEDS="1001 1002" SETUPS="..." DURATION=40 FIXED_FRAME=odom OUT=...'
+  echo '    scripts/run_random_evaluation.sh   # SEEDS="$(seq 1001 1010)" SETUPS="..." DURATION=40 FIXED_FRAME=odom OUT=...'
 } > "$PREAMBLE"
 
 mkdir -p "$(dirname "$REPORT")"
