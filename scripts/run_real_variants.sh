@@ -2,9 +2,9 @@
 # Regenerates doc/real_variants.md: walls kept on the CARMEN logs of ../shared/data/real and on
 # variants of each unlike the recording (scripts/perturb_bag.py: every second scan, every second
 # beam, pose noise of 3 cm and 0.7 deg, an 8 m lidar, wheel odometry's drift), mapped with
-# rfm_offline's defaults and as
-# the plain grid (--baseline), measured with rfm_compare_maps as doc/real_data.md is. No rule or
-# number was chosen on these variants: they show whether the walls hold where the data changes.
+# rfm_offline's defaults and as the plain grid (--baseline), measured with rfm_compare_maps as
+# doc/real_data.md is. No rule or number was chosen on these variants: they show whether the
+# walls hold where the data changes.
 #
 #   scripts/run_real_variants.sh
 #
@@ -124,20 +124,20 @@ EOF
   cat << EOF
 
 The lowest walls kept over the table but *drift*: $lowest %. Recordings whose *noise* variant
-draws the most glass of the first five columns: $noisiest of ${#names[@]}. Pose noise blurs a wall's face over the cells beside it,
-and those, seen from few directions, are drawn glass: none of these buildings has glass
-annotated, so the glass cells are no score here (doc/real_data.md).
+draws the most glass of the first five columns: $noisiest of ${#names[@]}. Pose noise blurs a
+wall's face over the cells beside it, and those, seen from few directions, are drawn glass: none
+of these buildings has glass annotated, so the glass cells are no score here (doc/real_data.md).
 
-With *drift*, walls kept is $(head -1 <<< "$drifted")-$(tail -1 <<< "$drifted") %. Of the cells dropped ($drift_dropped over the recordings),
-$drift_motion are drawn motion; the others are drawn free or hold no evidence. A drifting frame places
-a wall a little elsewhere each time the robot comes back to it, so both maps hold copies of it.
-The plain grid keeps the copies that still hold more hits than misses. The RFM's rays pass
-through the earlier copies in the directions in which those copies returned, which is how the
-RFM sees that a person has left, so it drops them. A copy that reads as glass (seen from few
-directions) also cuts the rays that pass through it. So in \`odom\` the map is only as good as the
-odometry over the time the robot takes to come back to a place. For a long recording without a
-localiser, expect walls kept below the 98 % target. With a localiser, map in its \`map\` frame
-(\`fixed_frame: map\`), which keeps those copies out of both maps.
+With *drift*, walls kept is $(head -1 <<< "$drifted")-$(tail -1 <<< "$drifted") %. Of the cells dropped ($drift_dropped over the
+recordings), $drift_motion are drawn motion; the others are drawn free or hold no evidence. A
+drifting frame places a wall a little elsewhere each time the robot comes back to it, so both maps
+hold copies of it. The plain grid keeps the copies whose hits still outweigh their misses. The RFM's rays
+pass through the earlier copies in the directions in which those copies returned, which is how
+the RFM sees that a person has left, so it drops them. A copy that reads as glass (seen from few
+directions) also cuts the rays that pass through it. So in \`odom\` the map is only as good as
+the odometry over the time the robot takes to come back to a place. For a long recording without
+a localiser, expect walls kept below the 98 % target. With a localiser, map in its \`map\`
+frame (\`fixed_frame: map\`), which keeps those copies out of both maps.
 EOF
 } > "$REPORT"
 echo "wrote $REPORT (${seconds} s)"
