@@ -109,6 +109,7 @@ EOF
     [[ "$variant" == drift ]] || value "$name" "$variant" walls_kept_percent; done; done |
     sort -n | head -1)"
   drifted="$(for name in "${names[@]}"; do value "$name" drift walls_kept_percent; done | sort -n)"
+  drift_range="$(head -1 <<< "$drifted")-$(tail -1 <<< "$drifted")"
   drift_dropped=0 drift_motion=0
   for name in "${names[@]}"; do
     drift_dropped=$((drift_dropped + $(value "$name" drift dropped)))
@@ -128,16 +129,16 @@ draws the most glass of the first five columns: $noisiest of ${#names[@]}. Pose 
 wall's face over the cells beside it, and those, seen from few directions, are drawn glass: none
 of these buildings has glass annotated, so the glass cells are no score here (doc/real_data.md).
 
-With *drift*, walls kept is $(head -1 <<< "$drifted")-$(tail -1 <<< "$drifted") %. Of the cells dropped ($drift_dropped over the
+With *drift*, walls kept is $drift_range %. Of the cells dropped ($drift_dropped over the
 recordings), $drift_motion are drawn motion; the others are drawn free or hold no evidence. A
-drifting frame places a wall a little elsewhere each time the robot comes back to it, so both maps
-hold copies of it. The plain grid keeps the copies whose hits still outweigh their misses. The RFM's rays
-pass through the earlier copies in the directions in which those copies returned, which is how
-the RFM sees that a person has left, so it drops them. A copy that reads as glass (seen from few
-directions) also cuts the rays that pass through it. So in \`odom\` the map is only as good as
-the odometry over the time the robot takes to come back to a place. For a long recording without
-a localiser, expect walls kept below the 98 % target. With a localiser, map in its \`map\`
-frame (\`fixed_frame: map\`), which keeps those copies out of both maps.
+drifting frame places a wall a little elsewhere each time the robot comes back to it, so both
+maps hold copies of it. The plain grid keeps the copies whose hits still outweigh their misses.
+The RFM's rays pass through the earlier copies in the directions in which those copies
+returned, which is how the RFM sees that a person has left, so it drops them. A copy that reads
+as glass (seen from few directions) also cuts the rays that pass through it. So in \`odom\` the
+map is only as good as the odometry over the time the robot takes to come back to a place. For a
+long recording without a localiser, expect walls kept below the 98 % target. With a localiser,
+map in its \`map\` frame (\`fixed_frame: map\`), which keeps those copies out of both maps.
 EOF
 } > "$REPORT"
 echo "wrote $REPORT (${seconds} s)"
