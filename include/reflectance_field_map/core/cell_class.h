@@ -29,6 +29,11 @@ inline bool blocksRays(CellClass c) {
   return c == CellClass::kGlass || c == CellClass::kMetal || c == CellClass::kStatic;
 }
 
+// Obstacles that reflect only near their normal (Alg. 2's anchored, not widely visible cells).
+inline bool isGlassOrMetal(CellClass c) {
+  return c == CellClass::kGlass || c == CellClass::kMetal;
+}
+
 // Free or unknown: nothing a ray could stop at.
 inline bool isEmptySpace(CellClass c) {
   return c == CellClass::kFree || c == CellClass::kUnknown;

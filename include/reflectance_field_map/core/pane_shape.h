@@ -70,10 +70,6 @@ class PaneShape {
   std::vector<int> group_;  // the group last measured
 };
 
-inline bool isGlassOrMetal(CellClass c) {
-  return c == CellClass::kGlass || c == CellClass::kMetal;
-}
-
 // The cells drawStaticOffPane changed: indices in `classes`, ascending, and how many of them were
 // glass and how many metal.
 struct OffPaneCells {

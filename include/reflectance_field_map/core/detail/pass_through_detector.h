@@ -17,8 +17,7 @@ template <typename ClassOf>
 bool besideGlassOrMetal(const CellIndex& cell, ClassOf&& class_of) {
   for (int dy = -1; dy <= 1; ++dy) {
     for (int dx = -1; dx <= 1; ++dx) {
-      const CellClass c = class_of(CellIndex(cell.x() + dx, cell.y() + dy));
-      if (c == CellClass::kGlass || c == CellClass::kMetal) return true;
+      if (isGlassOrMetal(class_of(CellIndex(cell.x() + dx, cell.y() + dy)))) return true;
     }
   }
   return false;
