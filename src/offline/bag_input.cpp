@@ -163,9 +163,7 @@ void readScan(const rosbag::MessageInstance& message, uint32_t topic, BagStretch
   scan.sensor_id = topic;
   scan.stamp = source.stamp.toSec();
   scan.scan = ros_glue::toLaserScan2D(msg);
-  // The node rejects these; a recording is taken as it is.
-  source.reversed = scan.scan.angle_increment < 0.0f && !scan.scan.ranges.empty();
-  if (source.reversed) reverseBeamOrder(scan.scan);
+  source.reversed = ros_glue::isClockwise(msg);
   source.sweep_end =
       source.stamp + ros::Duration(sweepSeconds(msg.time_increment, msg.ranges.size()));
   std::string problem = scan.scan.validate();

@@ -49,12 +49,21 @@ rfm::LaserScan2D toLaserScan2D(const sensor_msgs::LaserScan& msg, bool upside_do
   scan.range_min = msg.range_min;
   scan.range_max = msg.range_max;
   scan.ranges = msg.ranges;
+  if (isClockwise(msg)) rfm::reverseBeamOrder(scan);
   if (upside_down) rfm::mirrorScan(scan);
   return scan;
 }
 
-std::vector<rfm::RayLabel> toMessageOrder(std::vector<rfm::RayLabel> labels, bool upside_down) {
-  if (upside_down) std::reverse(labels.begin(), labels.end());
+bool isClockwise(const sensor_msgs::LaserScan& msg) {
+  return msg.angle_increment < 0.0f && !msg.ranges.empty();
+}
+
+bool reversesBeamOrder(const sensor_msgs::LaserScan& msg, bool upside_down) {
+  return isClockwise(msg) != upside_down;
+}
+
+std::vector<rfm::RayLabel> toMessageOrder(std::vector<rfm::RayLabel> labels, bool reversed) {
+  if (reversed) std::reverse(labels.begin(), labels.end());
   return labels;
 }
 

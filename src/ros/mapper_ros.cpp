@@ -374,10 +374,11 @@ void MapperRos::processScan(ScanInput& input, ArrivedScan arrived) {
   timed.stamp = msg->header.stamp.toSec();
   timed.scan = std::move(arrived.scan);
   if (sensor.upside_down) rfm::mirrorScan(timed.scan);
+  const bool reversed = reversesBeamOrder(*msg, sensor.upside_down);
   timed.sensor_pose = sensor.pose;
   timed.robot_pose = toPose2D(robot_tf.transform);
   compensateSweepFromTf(*tf_buffer_, params_.fixed_frame, laser_frame, msg->header.stamp,
-                        sweepEnd(*msg), sensor.upside_down, timed);
+                        sweepEnd(*msg), reversed, timed);
 
   const bool want_labels =
       input.filtered_pub.getNumSubscribers() > 0 || input.labels_pub.getNumSubscribers() > 0;
@@ -401,7 +402,7 @@ void MapperRos::processScan(ScanInput& input, ArrivedScan arrived) {
   ++input.processed;
   ++scans_processed_;
   if (want_labels) {
-    labels = toMessageOrder(std::move(labels), sensor.upside_down);
+    labels = toMessageOrder(std::move(labels), reversed);
     if (input.filtered_pub.getNumSubscribers() > 0) {
       input.filtered_pub.publish(filterScan(*msg, labels));
     }

@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
 #include <vector>
 
 namespace rfm::ros_glue {
@@ -148,28 +149,34 @@ TEST(Conversions, UprightScanIsCopiedBeamForBeam) {
 }
 
 // Every beam of the core scan ends where the message's beam ends in 3D, for an upright laser
-// and for one mounted upside down, and the core scan sweeps counter-clockwise.
+// and for one mounted upside down, with counter-clockwise and clockwise messages (negative
+// angle_increment), and the core scan sweeps counter-clockwise.
 TEST(Conversions, CoreScanEndsWhereTheLaserBeamsEndInSpace) {
-  const sensor_msgs::LaserScan msg =
-      makeMessage(-2.0f, 0.25f, {1.0f, 2.5f, 3.0f, 4.0f, 0.5f, 6.0f, 7.5f, 2.0f});
+  const std::vector<float> ranges = {1.0f, 2.5f, 3.0f, 4.0f, 0.5f, 6.0f, 7.5f, 2.0f};
   const Eigen::Vector3d translation(1.0, 2.0, 0.3);
-  for (const bool mounted_upside_down : {false, true}) {
-    const Eigen::Quaterniond rotation = yawRollPitch(0.7, mounted_upside_down ? M_PI : 0.0);
-    const PlanarSensorPose sensor = toPlanarSensorPose(makeTransform(translation, rotation));
-    ASSERT_EQ(sensor.upside_down, mounted_upside_down);
-    const rfm::LaserScan2D scan = toLaserScan2D(msg, sensor.upside_down);
-    EXPECT_EQ(scan.validate(), "");
-    EXPECT_GT(scan.angle_increment, 0.0f);
-    const size_t n = msg.ranges.size();
-    ASSERT_EQ(scan.ranges.size(), n);
-    for (size_t i = 0; i < n; ++i) {
-      const size_t k = mounted_upside_down ? n - 1 - i : i;  // the message beam it came from
-      const Eigen::Vector2d expected = trueEnd(msg, k, translation, rotation);
-      const Eigen::Vector2d actual = coreEnd(scan, sensor.pose, i);
-      EXPECT_NEAR(actual.x(), expected.x(), 1e-5)
-          << "upside down " << mounted_upside_down << ", beam " << i;
-      EXPECT_NEAR(actual.y(), expected.y(), 1e-5)
-          << "upside down " << mounted_upside_down << ", beam " << i;
+  for (const bool clockwise : {false, true}) {
+    const sensor_msgs::LaserScan msg =
+        clockwise ? makeMessage(-0.25f, -0.25f, ranges) : makeMessage(-2.0f, 0.25f, ranges);
+    ASSERT_EQ(isClockwise(msg), clockwise);
+    for (const bool mounted_upside_down : {false, true}) {
+      const Eigen::Quaterniond rotation = yawRollPitch(0.7, mounted_upside_down ? M_PI : 0.0);
+      const PlanarSensorPose sensor = toPlanarSensorPose(makeTransform(translation, rotation));
+      ASSERT_EQ(sensor.upside_down, mounted_upside_down);
+      const rfm::LaserScan2D scan = toLaserScan2D(msg, sensor.upside_down);
+      EXPECT_EQ(scan.validate(), "");
+      EXPECT_GT(scan.angle_increment, 0.0f);
+      const size_t n = msg.ranges.size();
+      ASSERT_EQ(scan.ranges.size(), n);
+      const bool reversed = reversesBeamOrder(msg, sensor.upside_down);
+      EXPECT_EQ(reversed, clockwise != mounted_upside_down);
+      for (size_t i = 0; i < n; ++i) {
+        const size_t k = reversed ? n - 1 - i : i;  // the message beam it came from
+        const Eigen::Vector2d expected = trueEnd(msg, k, translation, rotation);
+        const Eigen::Vector2d actual = coreEnd(scan, sensor.pose, i);
+        EXPECT_NEAR((actual - expected).norm(), 0.0, 1e-5)
+            << "clockwise " << clockwise << ", upside down " << mounted_upside_down << ", beam "
+            << i;
+      }
     }
   }
 }
@@ -178,52 +185,57 @@ TEST(Conversions, CoreScanEndsWhereTheLaserBeamsEndInSpace) {
 // compensateSweepFromTf each core beam ends where the message's beam ended when it was measured,
 // upright or upside down, from TF's poses at the first and the last beam.
 TEST(Conversions, SweptScanEndsWhereEachBeamWasMeasured) {
-  sensor_msgs::LaserScan msg =
-      makeMessage(-2.0f, 0.25f, {1.0f, 2.5f, 3.0f, 4.0f, 0.5f, 6.0f, 7.5f, 2.0f});
+  const std::vector<float> ranges = {1.0f, 2.5f, 3.0f, 4.0f, 0.5f, 6.0f, 7.5f, 2.0f};
   const double start = 100.0, time_increment = 0.01, turn_rate = 2.0;  // 0.14 rad a sweep
-  msg.header.stamp = ros::Time(start);
-  msg.time_increment = static_cast<float>(time_increment);
-  const size_t n = msg.ranges.size();
-  const ros::Time sweep_end = sweepEnd(msg);
-  EXPECT_NEAR((sweep_end - msg.header.stamp).toSec(), time_increment * (n - 1), 1e-7);  // float
   const Eigen::Vector3d translation(1.0, 2.0, 0.3);
-  for (const bool mounted_upside_down : {false, true}) {
-    const auto rotationAt = [&](double t) {
-      return yawRollPitch(0.7 + turn_rate * (t - start), mounted_upside_down ? M_PI : 0.0);
-    };
-    tf2::BufferCore tf;
-    for (const double t : {start, sweep_end.toSec()}) {
-      geometry_msgs::TransformStamped stamped;
-      stamped.header.stamp = ros::Time(t);
-      stamped.header.frame_id = "odom";
-      stamped.child_frame_id = "laser";
-      stamped.transform = makeTransform(translation, rotationAt(t));
-      tf.setTransform(stamped, "test");
+  for (const bool clockwise : {false, true})
+    for (const bool mounted_upside_down : {false, true}) {
+      sensor_msgs::LaserScan msg =
+          clockwise ? makeMessage(-0.25f, -0.25f, ranges) : makeMessage(-2.0f, 0.25f, ranges);
+      msg.header.stamp = ros::Time(start);
+      msg.time_increment = static_cast<float>(time_increment);
+      const size_t n = msg.ranges.size();
+      const ros::Time sweep_end = sweepEnd(msg);
+      EXPECT_NEAR((sweep_end - msg.header.stamp).toSec(), time_increment * (n - 1), 1e-7);  // float
+      const auto rotationAt = [&](double t) {
+        return yawRollPitch(0.7 + turn_rate * (t - start), mounted_upside_down ? M_PI : 0.0);
+      };
+      tf2::BufferCore tf;
+      for (const double t : {start, sweep_end.toSec()}) {
+        geometry_msgs::TransformStamped stamped;
+        stamped.header.stamp = ros::Time(t);
+        stamped.header.frame_id = "odom";
+        stamped.child_frame_id = "laser";
+        stamped.transform = makeTransform(translation, rotationAt(t));
+        tf.setTransform(stamped, "test");
+      }
+      const PlanarSensorPose sensor =
+          toPlanarSensorPose(tf.lookupTransform("odom", "laser", msg.header.stamp).transform);
+      rfm::TimedScan timed;
+      timed.scan = toLaserScan2D(msg, sensor.upside_down);
+      timed.sensor_pose = sensor.pose;
+      const bool reversed = reversesBeamOrder(msg, sensor.upside_down);
+      ASSERT_TRUE(
+          compensateSweepFromTf(tf, "odom", "laser", msg.header.stamp, sweep_end, reversed, timed));
+      EXPECT_EQ(timed.scan.validate(), "");
+      for (size_t i = 0; i < n; ++i) {
+        const size_t k = reversed ? n - 1 - i : i;  // the message beam it came from
+        const double measured = start + time_increment * static_cast<double>(k);
+        const Eigen::Vector2d expected = trueEnd(msg, k, translation, rotationAt(measured));
+        const Eigen::Vector2d actual = coreEnd(timed.scan, timed.sensor_pose, i);
+        EXPECT_NEAR((actual - expected).norm(), 0.0, 1e-4)
+            << "clockwise " << clockwise << ", upside down " << mounted_upside_down << ", beam "
+            << i;
+      }
+      // Without a pose at the sweep's end nothing changes.
+      rfm::TimedScan later = timed;
+      EXPECT_FALSE(compensateSweepFromTf(tf, "odom", "laser", msg.header.stamp,
+                                         sweep_end + ros::Duration(1.0), reversed, later));
+      EXPECT_EQ(later.scan.angle_increment, timed.scan.angle_increment);
     }
-    const PlanarSensorPose sensor =
-        toPlanarSensorPose(tf.lookupTransform("odom", "laser", msg.header.stamp).transform);
-    rfm::TimedScan timed;
-    timed.scan = toLaserScan2D(msg, sensor.upside_down);
-    timed.sensor_pose = sensor.pose;
-    ASSERT_TRUE(compensateSweepFromTf(tf, "odom", "laser", msg.header.stamp, sweep_end,
-                                      sensor.upside_down, timed));
-    EXPECT_EQ(timed.scan.validate(), "");
-    for (size_t i = 0; i < n; ++i) {
-      const size_t k = mounted_upside_down ? n - 1 - i : i;  // the message beam it came from
-      const double measured = start + time_increment * static_cast<double>(k);
-      const Eigen::Vector2d expected = trueEnd(msg, k, translation, rotationAt(measured));
-      const Eigen::Vector2d actual = coreEnd(timed.scan, timed.sensor_pose, i);
-      EXPECT_NEAR((actual - expected).norm(), 0.0, 1e-4)
-          << "upside down " << mounted_upside_down << ", beam " << i;
-    }
-    // Without a pose at the sweep's end nothing changes.
-    rfm::TimedScan later = timed;
-    EXPECT_FALSE(compensateSweepFromTf(tf, "odom", "laser", msg.header.stamp,
-                                       sweep_end + ros::Duration(1.0), sensor.upside_down, later));
-    EXPECT_EQ(later.scan.angle_increment, timed.scan.angle_increment);
-  }
   // A message that gives no sweep ends at its stamp, to the nanosecond (a wall-clock stamp does
   // not survive a round trip through seconds as a double).
+  sensor_msgs::LaserScan msg = makeMessage(-2.0f, 0.25f, ranges);
   msg.time_increment = 0.0f;
   msg.header.stamp = ros::Time(1700000000, 123456789);
   EXPECT_EQ(sweepEnd(msg), msg.header.stamp);
@@ -279,14 +291,41 @@ TEST(Conversions, Rep117RangesReachTheCoreUnchanged) {
   }
 }
 
-// A clockwise scan (negative angle_increment) is kept as the message has it, so validation
-// names the increment and the node counts the scan as malformed.
-TEST(Conversions, ClockwiseScanKeepsItsNegativeIncrementAndFailsValidation) {
-  const sensor_msgs::LaserScan msg = makeMessage(1.0f, -0.5f, {1.0f, 2.0f, 3.0f, 4.0f, 5.0f});
-  const rfm::LaserScan2D scan = toLaserScan2D(msg);
-  EXPECT_EQ(scan.angle_increment, -0.5f);
-  EXPECT_EQ(scan.ranges, msg.ranges);
-  EXPECT_NE(scan.validate().find("angle_increment"), std::string::npos) << scan.validate();
+// Labels computed on the core scan of a clockwise message come back in message order, upright
+// or upside down: the label at message beam k belongs to the core beam that ends where message
+// beam k ends.
+TEST(Conversions, ClockwiseLabelsComeBackInMessageOrder) {
+  const sensor_msgs::LaserScan msg = makeMessage(0.6f, -0.3f, {1.0f, 2.0f, 3.0f, 4.0f, 5.0f});
+  ASSERT_TRUE(isClockwise(msg));
+  const Eigen::Vector3d translation(0.0, 0.0, 0.0);
+  const std::vector<rfm::RayLabel> expected = {rfm::RayLabel::kKept, rfm::RayLabel::kMotion,
+                                               rfm::RayLabel::kKept, rfm::RayLabel::kReflection,
+                                               rfm::RayLabel::kKept};
+  for (const bool mounted_upside_down : {false, true}) {
+    const Eigen::Quaterniond rotation = yawRollPitch(0.2, mounted_upside_down ? M_PI : 0.0);
+    const PlanarSensorPose sensor = toPlanarSensorPose(makeTransform(translation, rotation));
+    const rfm::LaserScan2D scan = toLaserScan2D(msg, sensor.upside_down);
+    ASSERT_EQ(scan.validate(), "");
+    std::vector<rfm::RayLabel> labels(scan.ranges.size(), rfm::RayLabel::kKept);
+    for (size_t i = 0; i < scan.ranges.size(); ++i) {
+      const Eigen::Vector2d end = coreEnd(scan, sensor.pose, i);
+      if ((end - trueEnd(msg, 1, translation, rotation)).norm() < 1e-5)
+        labels[i] = rfm::RayLabel::kMotion;
+      if ((end - trueEnd(msg, 3, translation, rotation)).norm() < 1e-5)
+        labels[i] = rfm::RayLabel::kReflection;
+    }
+    EXPECT_EQ(toMessageOrder(labels, reversesBeamOrder(msg, sensor.upside_down)), expected)
+        << "upside down " << mounted_upside_down;
+  }
+}
+
+// A clockwise message whose ranges do not fit its angles (two beams short) stays malformed once
+// turned round: validation names the count.
+TEST(Conversions, ClockwiseScanWithTooFewRangesFailsValidation) {
+  sensor_msgs::LaserScan msg = makeMessage(1.0f, -0.5f, {1.0f, 2.0f, 3.0f, 4.0f, 5.0f});
+  msg.ranges.resize(3);
+  const std::string problem = toLaserScan2D(msg).validate();
+  EXPECT_NE(problem.find("3 ranges"), std::string::npos) << problem;
 }
 
 // ---- Labels and filtered scans ---------------------------------------------------------------

@@ -40,11 +40,18 @@ struct PlanarSensorPose {
 };
 PlanarSensorPose toPlanarSensorPose(const geometry_msgs::Transform& transform);
 
-// sensor_msgs/LaserScan -> core scan. With `upside_down` the beams are reversed and their
-// angles negated so that the scan sweeps counter-clockwise in the plane; labels computed on it
-// come back to message order through toMessageOrder().
+// Whether the message's beams go clockwise in the laser's frame (angle_increment < 0), as some
+// drivers publish them.
+bool isClockwise(const sensor_msgs::LaserScan& msg);
+
+// sensor_msgs/LaserScan -> core scan, which sweeps counter-clockwise in the plane: a clockwise
+// message's beams are reversed, and with `upside_down` the beams are reversed (again) and their
+// angles negated. Labels computed on it come back to message order through toMessageOrder().
 rfm::LaserScan2D toLaserScan2D(const sensor_msgs::LaserScan& msg, bool upside_down = false);
-std::vector<rfm::RayLabel> toMessageOrder(std::vector<rfm::RayLabel> labels, bool upside_down);
+// Whether the core scan holds the message's beams in reverse order: the message is clockwise or
+// the laser upside down, not both.
+bool reversesBeamOrder(const sensor_msgs::LaserScan& msg, bool upside_down);
+std::vector<rfm::RayLabel> toMessageOrder(std::vector<rfm::RayLabel> labels, bool reversed);
 
 // When the scan's last beam was measured (its stamp + rfm::sweepSeconds): exactly its stamp when
 // the message gives no sweep (time_increment 0).

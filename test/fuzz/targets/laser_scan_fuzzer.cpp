@@ -51,7 +51,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const rfm::ScanUpdate update = mapper.addScan(timed);
   if (!update.error.empty()) return 0;
   std::vector<rfm::RayLabel> labels = mapper.labelAddedScan(timed, update);
-  labels = rfm::ros_glue::toMessageOrder(std::move(labels), upside_down);
+  labels = rfm::ros_glue::toMessageOrder(std::move(labels),
+                                         rfm::ros_glue::reversesBeamOrder(msg, upside_down));
   if (labels.size() != msg.ranges.size()) __builtin_trap();  // one label per beam
   rfm::ros_glue::filterScan(msg, labels);
   rfm::ros_glue::toRayLabelsMsg(msg.header, "/scan", labels);
