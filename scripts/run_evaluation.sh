@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Regenerates doc/evaluation.md: simulates every shipped scene (config/scenes/*.yaml), maps each
 # bag with rfm_offline in the four configurations of the paper's Tables II and III, scores the
-# per-beam labels against the simulator's ground truth with rfm_eval and aggregates the results
-# (ray-weighted over all scenes) into one markdown file.
+# per-beam labels against the simulator's ground truth and each classes.pgm against the scene's
+# materials with rfm_eval, and aggregates the results (ray- and cell-weighted over all scenes) into
+# one markdown file.
 #
 #   scripts/run_evaluation.sh
 #
@@ -13,7 +14,7 @@
 #   REPORT       output file (default: doc/evaluation.md in the checkout)
 #   RFM_OFFLINE  mapper command (default: "rosrun reflectance_field_map rfm_offline"); it is called
 #                as: $RFM_OFFLINE --bag SIM.bag --out DIR [config flags] and must write
-#                DIR/labels.bag (/rfm/ray_labels)
+#                DIR/labels.bag (/rfm/ray_labels) and DIR/classes.pgm
 set -euo pipefail
 export PATH=/usr/bin:$PATH
 
@@ -61,7 +62,7 @@ for scene in $SCENES; do
     "${OFFLINE[@]}" --bag "$OUT/$scene/sim.bag" --out "$dir" ${flags[@]+"${flags[@]}"} \
       > "$dir/offline.log" 2>&1 || { cat "$dir/offline.log" >&2; exit 1; }
     rosrun reflectance_field_map rfm_eval --truth "$OUT/$scene/sim.bag" \
-      --labels "$dir/labels.bag" --out "$dir/eval" > "$dir/eval.log"
+      --labels "$dir/labels.bag" --scene "$scene_file" --out "$dir/eval" > "$dir/eval.log"
     echo "$config $scene $dir/eval.json" >> "$MANIFEST"
   done
 done

@@ -390,6 +390,16 @@ double CellConfusion::mirrorsDrawnSpecular() const {
       rowTotal(SurfaceRow::kMirror));
 }
 
+const char* const CellConfusion::kSummaryColumnNames =
+    "glass P | glass R | metal P | metal R | static P | static R | walls drawn glass/metal";
+
+std::string CellConfusion::summaryColumns() const {
+  std::string columns;
+  for (const MapClass drawn : {MapClass::kGlass, MapClass::kMetal, MapClass::kStatic})
+    columns += percent(precision(drawn)) + " | " + percent(recall(drawn)) + " | ";
+  return columns + percent(wallsDrawnSpecular());
+}
+
 std::string CellConfusion::toMarkdown() const {
   std::ostringstream out;
   out << "| drawn class | precision (%) | recall (%) | cells drawn | true cells |\n"

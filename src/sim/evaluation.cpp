@@ -252,6 +252,14 @@ std::string buildEvaluationReport(const std::vector<EvaluationEntry>& entries,
       if (!cells.count(config)) continue;
       out << "\n### " << config << "\n\n" << cells[config].toMarkdown();
     }
+    out << "\n### Per scene\n\n| Scene | Configuration | " << CellConfusion::kSummaryColumnNames
+        << " |\n|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
+    for (const std::string& scene : scenes)
+      for (const std::string& config : configs)
+        for (const EvaluationEntry& entry : entries)
+          if (entry.scene == scene && entry.config == config && entry.cells)
+            out << "| " << scene << " | " << config << " | " << entry.cells->summaryColumns()
+                << " |\n";
   }
   return out.str();
 }

@@ -30,20 +30,14 @@ std::string rayColumns(const ConfusionMatrix& m) {
          removed(m.row(3)) + " | " + removed(m.row(4));
 }
 
-// Glass precision and recall, metal precision and recall, static precision and recall, walls
-// drawn glass or metal.
 std::string cellColumns(const std::optional<CellConfusion>& cells) {
-  if (!cells) return "- | - | - | - | - | - | -";
-  const CellConfusion& c = *cells;
-  return number(c.precision(MapClass::kGlass), 1) + " | " + number(c.recall(MapClass::kGlass), 1) +
-         " | " + number(c.precision(MapClass::kMetal), 1) + " | " +
-         number(c.recall(MapClass::kMetal), 1) + " | " + number(c.precision(MapClass::kStatic), 1) +
-         " | " + number(c.recall(MapClass::kStatic), 1) + " | " + number(c.wallsDrawnSpecular(), 1);
+  return cells ? cells->summaryColumns() : "- | - | - | - | - | - | -";
 }
 
-const char* const kColumns =
-    "diffuse kept | glass kept | metal kept | motion removed | reflections removed | glass P | "
-    "glass R | metal P | metal R | static P | static R | walls drawn glass/metal";
+const std::string kColumns =
+    std::string(
+        "diffuse kept | glass kept | metal kept | motion removed | reflections removed | ") +
+    CellConfusion::kSummaryColumnNames;
 const char* const kAlignment = "---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|";
 
 struct Totals {

@@ -99,6 +99,24 @@ CellConfusion glassCells(int width, int drawn_glass) {
   return CellConfusion::evaluate(grid, rasterizeSurfaces(world, grid), 0);
 }
 
+TEST(EvaluationReportTest, SumsCellsPerConfigurationAndListsThemPerScene) {
+  ConfusionMatrix rays;
+  rays.addScan({2, 2}, {1, 1});
+  const std::vector<EvaluationEntry> entries = {{"full", "scene_a", rays, glassCells(4, 1), "", ""},
+                                                {"full", "scene_b", rays, glassCells(4, 3), "", ""},
+                                                {"baseline", "scene_a", rays, {}, "", ""}};
+  const std::string report = buildEvaluationReport(entries, "");
+  const size_t cells = report.find("## Class metrics (cells)");
+  ASSERT_NE(cells, std::string::npos) << report;
+  // Summed: 4 of 8 glass cells drawn glass, every cell drawn glass on glass.
+  EXPECT_NE(report.find("| glass | 100.0 | 50.0 | 4 | 8 |", cells), std::string::npos) << report;
+  EXPECT_NE(report.find("| scene_a | full | 100.0 | 25.0 | - | - |", cells), std::string::npos)
+      << report;
+  EXPECT_NE(report.find("| scene_b | full | 100.0 | 75.0 | - | - |", cells), std::string::npos)
+      << report;
+  EXPECT_EQ(report.find("| scene_a | baseline | 100.0", cells), std::string::npos);  // no cells
+}
+
 TEST(EvaluationReportTest, GroupsBySetupAndSplitAndSumsCells) {
   ConfusionMatrix rays;
   rays.addScan({2, 2, 2, 2}, {1, 1, 1, 3});  // glass 75 % kept

@@ -95,6 +95,10 @@ class CellConfusion {
 
   // Markdown tables (no heading): the metrics, then the confusion of true rows and drawn classes.
   std::string toMarkdown() const;
+  // The cells of one table row: glass, metal and static precision and recall, then walls drawn
+  // glass or metal ("P | R | ..."; "-" where undefined). kSummaryColumnNames heads them.
+  std::string summaryColumns() const;
+  static const char* const kSummaryColumnNames;
   // A JSON object; fromJson reads it back (throws std::runtime_error on bad input).
   std::string toJson() const;
   static CellConfusion fromJson(const std::string& json_text);
