@@ -241,30 +241,36 @@ TEST(Conversions, SweptScanEndsWhereEachBeamWasMeasured) {
   EXPECT_EQ(sweepEnd(msg), msg.header.stamp);
 }
 
-// Labels computed on the core scan of an upside-down laser come back in message order: the
-// label at message beam k belongs to the core beam that ends where message beam k ends.
-TEST(Conversions, UpsideDownLabelsComeBackInMessageOrder) {
-  const sensor_msgs::LaserScan msg = makeMessage(-0.6f, 0.3f, {1.0f, 2.0f, 3.0f, 4.0f, 5.0f});
+// Labels computed on the core scan come back in message order, for counter-clockwise and
+// clockwise messages (negative angle_increment) of upright and upside-down lasers: the label at
+// message beam k belongs to the core beam that ends where message beam k ends.
+TEST(Conversions, LabelsComeBackInMessageOrder) {
+  const std::vector<float> ranges = {1.0f, 2.0f, 3.0f, 4.0f, 5.0f};
   const Eigen::Vector3d translation(0.0, 0.0, 0.0);
-  const Eigen::Quaterniond rotation = yawRollPitch(0.2, M_PI);
-  const PlanarSensorPose sensor = toPlanarSensorPose(makeTransform(translation, rotation));
-  ASSERT_TRUE(sensor.upside_down);
-  const rfm::LaserScan2D scan = toLaserScan2D(msg, true);
-  // Label the core beam ending at message beam 1's end MOTION, the one at beam 3's REFLECTION.
-  std::vector<rfm::RayLabel> labels(scan.ranges.size(), rfm::RayLabel::kKept);
-  for (size_t i = 0; i < scan.ranges.size(); ++i) {
-    const Eigen::Vector2d end = coreEnd(scan, sensor.pose, i);
-    if ((end - trueEnd(msg, 1, translation, rotation)).norm() < 1e-5)
-      labels[i] = rfm::RayLabel::kMotion;
-    if ((end - trueEnd(msg, 3, translation, rotation)).norm() < 1e-5)
-      labels[i] = rfm::RayLabel::kReflection;
-  }
-  const std::vector<rfm::RayLabel> in_message_order = toMessageOrder(labels, true);
   const std::vector<rfm::RayLabel> expected = {rfm::RayLabel::kKept, rfm::RayLabel::kMotion,
                                                rfm::RayLabel::kKept, rfm::RayLabel::kReflection,
                                                rfm::RayLabel::kKept};
-  EXPECT_EQ(in_message_order, expected);
-  EXPECT_EQ(toMessageOrder(expected, false), expected);  // an upright laser's are in order
+  for (const bool clockwise : {false, true}) {
+    const sensor_msgs::LaserScan msg =
+        clockwise ? makeMessage(0.6f, -0.3f, ranges) : makeMessage(-0.6f, 0.3f, ranges);
+    for (const bool mounted_upside_down : {false, true}) {
+      const Eigen::Quaterniond rotation = yawRollPitch(0.2, mounted_upside_down ? M_PI : 0.0);
+      const PlanarSensorPose sensor = toPlanarSensorPose(makeTransform(translation, rotation));
+      const rfm::LaserScan2D scan = toLaserScan2D(msg, sensor.upside_down);
+      ASSERT_EQ(scan.validate(), "");
+      // The core beam ending at message beam 1's end MOTION, the one at beam 3's REFLECTION.
+      std::vector<rfm::RayLabel> labels(scan.ranges.size(), rfm::RayLabel::kKept);
+      for (size_t i = 0; i < scan.ranges.size(); ++i) {
+        const Eigen::Vector2d end = coreEnd(scan, sensor.pose, i);
+        if ((end - trueEnd(msg, 1, translation, rotation)).norm() < 1e-5)
+          labels[i] = rfm::RayLabel::kMotion;
+        if ((end - trueEnd(msg, 3, translation, rotation)).norm() < 1e-5)
+          labels[i] = rfm::RayLabel::kReflection;
+      }
+      EXPECT_EQ(toMessageOrder(labels, reversesBeamOrder(msg, sensor.upside_down)), expected)
+          << "clockwise " << clockwise << ", upside down " << mounted_upside_down;
+    }
+  }
 }
 
 // REP-117 readings reach the core as they are (the core decides what each means), and an
@@ -288,34 +294,6 @@ TEST(Conversions, Rep117RangesReachTheCoreUnchanged) {
         EXPECT_EQ(scan.ranges[i], from_message) << "beam " << i;
       }
     }
-  }
-}
-
-// Labels computed on the core scan of a clockwise message come back in message order, upright
-// or upside down: the label at message beam k belongs to the core beam that ends where message
-// beam k ends.
-TEST(Conversions, ClockwiseLabelsComeBackInMessageOrder) {
-  const sensor_msgs::LaserScan msg = makeMessage(0.6f, -0.3f, {1.0f, 2.0f, 3.0f, 4.0f, 5.0f});
-  ASSERT_TRUE(isClockwise(msg));
-  const Eigen::Vector3d translation(0.0, 0.0, 0.0);
-  const std::vector<rfm::RayLabel> expected = {rfm::RayLabel::kKept, rfm::RayLabel::kMotion,
-                                               rfm::RayLabel::kKept, rfm::RayLabel::kReflection,
-                                               rfm::RayLabel::kKept};
-  for (const bool mounted_upside_down : {false, true}) {
-    const Eigen::Quaterniond rotation = yawRollPitch(0.2, mounted_upside_down ? M_PI : 0.0);
-    const PlanarSensorPose sensor = toPlanarSensorPose(makeTransform(translation, rotation));
-    const rfm::LaserScan2D scan = toLaserScan2D(msg, sensor.upside_down);
-    ASSERT_EQ(scan.validate(), "");
-    std::vector<rfm::RayLabel> labels(scan.ranges.size(), rfm::RayLabel::kKept);
-    for (size_t i = 0; i < scan.ranges.size(); ++i) {
-      const Eigen::Vector2d end = coreEnd(scan, sensor.pose, i);
-      if ((end - trueEnd(msg, 1, translation, rotation)).norm() < 1e-5)
-        labels[i] = rfm::RayLabel::kMotion;
-      if ((end - trueEnd(msg, 3, translation, rotation)).norm() < 1e-5)
-        labels[i] = rfm::RayLabel::kReflection;
-    }
-    EXPECT_EQ(toMessageOrder(labels, reversesBeamOrder(msg, sensor.upside_down)), expected)
-        << "upside down " << mounted_upside_down;
   }
 }
 
