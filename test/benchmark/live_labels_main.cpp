@@ -1,7 +1,7 @@
 // rfm_live_labels: labels every scan of a bag as the live node publishes them, for rfm_eval.
 //
 //   rfm_live_labels IN.bag OUT_labels.bag [PARAMS.yaml] [--scan-topics /a,/b] [--fixed-frame F]
-//                   [--classes-log FILE]
+//                   [--classes-log FILE] [--map-out DIR]
 //
 // The node's per-scan path (MapperRos::processScan): addScan, then labelAddedScan against the
 // map so far, a part of the last pass's revert behind new glass, and a pass
@@ -13,6 +13,10 @@
 // per pass, in the host's byte order, the scans' clock (float64, s), the window's box in cells
 // (int32 min x, min y, width, height) and its cells' class codes (uint8 each, CellClass,
 // row-major, x fastest).
+//
+// --map-out DIR writes the map the node holds at the end of the replay, after the pass its timer
+// runs once scans stop: DIR/map.yaml + map.pgm and DIR/classes.pgm, as rfm_offline writes them
+// (rfm_compare_maps reads them).
 #include "reflectance_field_map/core/mapper.h"
 #include "reflectance_field_map/offline/bag_input.h"
 #include "reflectance_field_map/offline/outputs.h"
@@ -30,7 +34,7 @@ namespace {
 
 constexpr char kUsage[] =
     "usage: rfm_live_labels IN.bag OUT_labels.bag [PARAMS.yaml] [--scan-topics /a,/b]"
-    " [--fixed-frame FRAME] [--classes-log FILE]\n"
+    " [--fixed-frame FRAME] [--classes-log FILE] [--map-out DIR]\n"
     "  topics default to /scan_front,/scan_rear (those present), the frame to odom, as "
     "rfm_offline\n";
 
@@ -53,17 +57,20 @@ void logClasses(const rfm::Mapper& mapper, double stamp, std::ostream& out) {
 int main(int argc, char** argv) {
   std::vector<std::string> positional;
   rfm::offline::BagInputOptions input;
-  std::string classes_log_path;
+  std::string classes_log_path, map_out;
   input.scan_topics = {"/scan_front", "/scan_rear"};
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    if ((arg == "--scan-topics" || arg == "--fixed-frame" || arg == "--classes-log") &&
+    if ((arg == "--scan-topics" || arg == "--fixed-frame" || arg == "--classes-log" ||
+         arg == "--map-out") &&
         i + 1 < argc) {
       const std::string value = argv[++i];
       if (arg == "--scan-topics") {
         input.scan_topics = rfm::offline::splitTopicList(value);
       } else if (arg == "--fixed-frame") {
         input.fixed_frame = value;
+      } else if (arg == "--map-out") {
+        map_out = value;
       } else {
         classes_log_path = value;
       }
@@ -103,6 +110,12 @@ int main(int argc, char** argv) {
       }
     }
     rfm::offline::writeLabelsBag(positional[1], "/rfm/ray_labels", scans, labels);
+    if (!map_out.empty()) {
+      mapper.classifyActiveRegion();
+      rfm::offline::makeOutputDirectory(map_out);
+      rfm::offline::writeMapServerFiles(map_out, "map", mapper.map(), options.grid.resolution);
+      rfm::offline::writeClassesPgm(map_out, mapper.map());
+    }
   } catch (const std::exception& e) {
     std::cerr << "rfm_live_labels: " << e.what() << "\n";
     return 1;

@@ -5,6 +5,8 @@
 #   check_real_results.sh DATA RESULTS.tsv walls_kept NAME   walls kept >= 98 %
 #   check_real_results.sh DATA RESULTS.tsv no_glass NAME     no cell drawn glass or metal
 #   check_real_results.sh DATA RESULTS.tsv people_left NAME  people left <= the plain grid's
+# and the same of the node's map at the end of a replay: walls_kept_live, no_glass_live,
+# people_left_live.
 # Exits 77 (skipped) when DATA/real is absent.
 set -euo pipefail
 data="$1" results="$2" check="$3" arg="${4:-}"
@@ -33,19 +35,24 @@ case "$check" in
     done
     exit $status
     ;;
-  walls_kept)
-    kept=$(field "$arg" walls_kept_percent)
-    echo "$arg: walls kept $kept % (target >= 98 %)"
+  walls_kept | walls_kept_live)
+    if [[ "$check" == walls_kept ]]; then map=RFM column=walls_kept_percent; else
+      map="the node's map" column=live_walls_kept_percent; fi
+    kept=$(field "$arg" "$column")
+    echo "$arg: walls kept $kept % in $map (target >= 98 %)"
     awk -v k="$kept" 'BEGIN { exit !(k >= 98.0) }'
     ;;
-  no_glass)
-    glass=$(field "$arg" rfm_glass) metal=$(field "$arg" rfm_metal)
-    echo "$arg: $glass cells drawn glass and $metal metal in a room without either (target 0)"
+  no_glass | no_glass_live)
+    if [[ "$check" == no_glass ]]; then map=RFM prefix=rfm; else map="the node's map" prefix=live; fi
+    glass=$(field "$arg" "${prefix}_glass") metal=$(field "$arg" "${prefix}_metal")
+    echo "$arg: $map draws $glass cells glass and $metal metal in a room without either (target 0)"
     [[ "$glass" == 0 && "$metal" == 0 ]]
     ;;
-  people_left)
-    rfm=$(field "$arg" people_left_rfm) plain=$(field "$arg" people_left_plain)
-    echo "$arg: people left: RFM $rfm cells, plain grid $plain (target: RFM <= plain grid)"
+  people_left | people_left_live)
+    if [[ "$check" == people_left ]]; then map=RFM column=people_left_rfm; else
+      map="the node's map" column=people_left_live; fi
+    rfm=$(field "$arg" "$column") plain=$(field "$arg" people_left_plain)
+    echo "$arg: people left: $map $rfm cells, plain grid $plain (target: no more than the plain grid)"
     [[ "$rfm" =~ ^[0-9]+$ && "$plain" =~ ^[0-9]+$ ]] && ((rfm <= plain))
     ;;
   *)
