@@ -139,7 +139,8 @@ occupied() { awk -v d="$OUT/$1/$2" '$2 == d {print $4}' "$OUT/$1/people_left.txt
 
 # The report.
 commit="$(git -C "$REPO" rev-parse --short HEAD 2>/dev/null || echo unknown)"
-if [[ -n "$(git -C "$REPO" status --porcelain -- src include 2>/dev/null)" ]]; then
+# The tools the report runs are built from src and include, rfm_live_labels from test/benchmark.
+if [[ -n "$(git -C "$REPO" status --porcelain -- src include test/benchmark 2>/dev/null)" ]]; then
   commit="$commit + uncommitted changes"
 fi
 pictures_rel="$(realpath --relative-to="$(dirname "$REPORT")" "$PICTURES")"
