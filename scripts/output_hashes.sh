@@ -15,7 +15,7 @@ source "$(dirname "${BASH_SOURCE[0]}")/workspace.sh"
 rfm_activate
 out="${OUT:-/tmp/rfm_hashes}"
 scenes="${SCENES:-$(cd "$rfm_source_dir/config/scenes" && ls -1 ./*.yaml | sed 's|^\./||; s|\.yaml$||')}"
-real_bag="$rfm_source_dir/../shared/data/real/demo_stationary_simple_environment.bag"
+real_bag="$rfm_shared_data/real/demo_stationary_simple_environment.bag"
 mkdir -p "$out"
 
 hash_outputs() {  # NAME DIR

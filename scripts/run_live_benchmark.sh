@@ -37,7 +37,7 @@ CAMPUS_RATE="${CAMPUS_RATE:-20}"
 RECORDINGS="${RECORDINGS:-sim stationary campus idle}"
 IDLE_SECONDS="${IDLE_SECONDS:-20}"
 read -r -a node_params <<< "${NODE_PARAMS:-}"
-DATA="$rfm_source_dir/../shared/data/real"
+DATA="$rfm_shared_data/real"
 PY=/usr/bin/python3  # Debian's, with rospy
 PROBE="$rfm_source_dir/scripts/live_benchmark/probe.py"
 

@@ -191,6 +191,12 @@ std::string buildEvaluationReport(const std::vector<EvaluationEntry>& entries,
     }
     totals[entry.config].merge(entry.matrix);
   }
+  // The per-scene tables list the entries scene by scene, configurations in first-seen order.
+  std::vector<const EvaluationEntry*> by_scene;
+  for (const std::string& scene : scenes)
+    for (const std::string& config : configs)
+      for (const EvaluationEntry& entry : entries)
+        if (entry.scene == scene && entry.config == config) by_scene.push_back(&entry);
 
   std::ostringstream out;
   out << "# Ray classification evaluation on simulated scenes\n\n" << preamble;
@@ -227,18 +233,12 @@ std::string buildEvaluationReport(const std::vector<EvaluationEntry>& entries,
       << "| Scene | Configuration | Diffuse kept | Glass kept | Metal kept | Motion removed | "
          "Reflection removed | Rays (diffuse/glass/metal/motion/reflection) |\n"
       << "|---|---|---:|---:|---:|---:|---:|---|\n";
-  for (const std::string& scene : scenes) {
-    for (const std::string& config : configs) {
-      for (const EvaluationEntry& entry : entries) {
-        if (entry.scene != scene || entry.config != config) continue;
-        const ConfusionMatrix& m = entry.matrix;
-        out << "| " << scene << " | " << config << " | " << rate(m.row(0), true) << " | "
-            << rate(m.row(1), true) << " | " << rate(m.row(2), true) << " | "
-            << rate(m.row(3), false) << " | " << rate(m.row(4), false) << " | " << m.row(0).total
-            << "/" << m.row(1).total << "/" << m.row(2).total << "/" << m.row(3).total << "/"
-            << m.row(4).total << " |\n";
-      }
-    }
+  for (const EvaluationEntry* entry : by_scene) {
+    const ConfusionMatrix& m = entry->matrix;
+    out << "| " << entry->scene << " | " << entry->config << " | " << rate(m.row(0), true) << " | "
+        << rate(m.row(1), true) << " | " << rate(m.row(2), true) << " | " << rate(m.row(3), false)
+        << " | " << rate(m.row(4), false) << " | " << m.row(0).total << "/" << m.row(1).total << "/"
+        << m.row(2).total << "/" << m.row(3).total << "/" << m.row(4).total << " |\n";
   }
 
   std::map<std::string, CellConfusion> cells;
@@ -254,12 +254,10 @@ std::string buildEvaluationReport(const std::vector<EvaluationEntry>& entries,
     }
     out << "\n### Per scene\n\n| Scene | Configuration | " << CellConfusion::kSummaryColumnNames
         << " |\n|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
-    for (const std::string& scene : scenes)
-      for (const std::string& config : configs)
-        for (const EvaluationEntry& entry : entries)
-          if (entry.scene == scene && entry.config == config && entry.cells)
-            out << "| " << scene << " | " << config << " | " << entry.cells->summaryColumns()
-                << " |\n";
+    for (const EvaluationEntry* entry : by_scene)
+      if (entry->cells)
+        out << "| " << entry->scene << " | " << entry->config << " | "
+            << entry->cells->summaryColumns() << " |\n";
   }
   return out.str();
 }
