@@ -23,6 +23,12 @@ field() {  # field NAME COLUMN
     END { if (!found) exit 1 }' "$results"
 }
 
+# A check ending in _live reads the columns of the node's map at the end of a replay.
+map=RFM source=rfm walls_column=walls_kept_percent
+if [[ "$check" == *_live ]]; then
+  map="the node's map" source=live walls_column=live_walls_kept_percent check="${check%_live}"
+fi
+
 case "$check" in
   recordings)
     expected=$( (ls "$data"/real/*.log.gz; ls "$data"/real/*.bag) 2> /dev/null |
@@ -35,23 +41,18 @@ case "$check" in
     done
     exit $status
     ;;
-  walls_kept | walls_kept_live)
-    if [[ "$check" == walls_kept ]]; then map=RFM column=walls_kept_percent; else
-      map="the node's map" column=live_walls_kept_percent; fi
-    kept=$(field "$arg" "$column")
+  walls_kept)
+    kept=$(field "$arg" "$walls_column")
     echo "$arg: walls kept $kept % in $map (target >= 98 %)"
     awk -v k="$kept" 'BEGIN { exit !(k >= 98.0) }'
     ;;
-  no_glass | no_glass_live)
-    if [[ "$check" == no_glass ]]; then map=RFM prefix=rfm; else map="the node's map" prefix=live; fi
-    glass=$(field "$arg" "${prefix}_glass") metal=$(field "$arg" "${prefix}_metal")
+  no_glass)
+    glass=$(field "$arg" "${source}_glass") metal=$(field "$arg" "${source}_metal")
     echo "$arg: $map draws $glass cells glass and $metal metal in a room without either (target 0)"
     [[ "$glass" == 0 && "$metal" == 0 ]]
     ;;
-  people_left | people_left_live)
-    if [[ "$check" == people_left ]]; then map=RFM column=people_left_rfm; else
-      map="the node's map" column=people_left_live; fi
-    rfm=$(field "$arg" "$column") plain=$(field "$arg" people_left_plain)
+  people_left)
+    rfm=$(field "$arg" "people_left_$source") plain=$(field "$arg" people_left_plain)
     echo "$arg: people left: $map $rfm cells, plain grid $plain (target: no more than the plain grid)"
     [[ "$rfm" =~ ^[0-9]+$ && "$plain" =~ ^[0-9]+$ ]] && ((rfm <= plain))
     ;;
