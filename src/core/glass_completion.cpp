@@ -40,7 +40,7 @@ constexpr int kMotionFrameClearance = 3;  // cells
 // An unfaced stretch longer than a doorway's narrowest (kMaxUnfacedEnd) is glass only if beams
 // ended in at least this share of its free cells at some time (ReflectanceField::everHitAt), and
 // in one at least: glass seen away from its normal still returns now and then (a weak echo, dirt
-// scatter), an opening does not (but where people walk through it).
+// scatter), an opening does not, unless people walk through it.
 constexpr double kMinEchoShare = 0.1;
 
 // Whether `points` lie along `line` as a straight run's cells do (kMaxOffLine, with strays).
