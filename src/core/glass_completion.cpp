@@ -42,6 +42,11 @@ constexpr int kMotionFrameClearance = 3;  // cells
 // in one at least: glass seen away from its normal still returns now and then (a weak echo, dirt
 // scatter), an opening does not, unless people walk through it.
 constexpr double kMinEchoShare = 0.1;
+// ... and that share is at least this many times the share of the free cells kBesideFrom to
+// kBesideTo cells beside it, either side: dirt on a pane ends beams on the pane's line, people
+// walking through an opening end them all around it.
+constexpr double kMinEchoContrast = 2.0;
+constexpr int kBesideFrom = 3, kBesideTo = 6;  // cells
 
 // Whether `points` lie along `line` as a straight run's cells do (kMaxOffLine, with strays).
 bool liesAlong(const std::vector<Eigen::Vector2d>& points, const LineFit& line, double resolution) {
@@ -217,19 +222,34 @@ bool GlassCompletion::echoesLikeGlass(const ReflectanceField& field, const CellB
                                       const std::vector<CellClass>& classes,
                                       const std::vector<int>& gap, const CellIndex& beside) const {
   const RollingWindow& window = field.window();
-  // A free cell beside the line counts for it: the pane may lie a cell off the runs' line.
-  auto echoed_at = [&](const CellIndex& cell) {
-    return classInBox(box, classes, cell) == CellClass::kFree && window.contains(cell) &&
-           field.everHitAt(window.storageIndex(cell));
+  auto free_at = [&](const CellIndex& cell) {
+    return box.contains(cell) && classInBox(box, classes, cell) == CellClass::kFree;
   };
-  int free_cells = 0, echoed = 0;
+  auto echoed_at = [&](const CellIndex& cell) {
+    return window.contains(cell) && field.everHitAt(window.storageIndex(cell));
+  };
+  int free_cells = 0, echoed = 0, beside_cells = 0, beside_echoed = 0;
   for (int i : gap) {
     if (classes[i] != CellClass::kFree) continue;  // motion the gap goes on through
     const CellIndex cell = box.cellAt(i);
     ++free_cells;
-    echoed += echoed_at(cell) || echoed_at(cell + beside) || echoed_at(cell - beside);
+    // A free cell beside the line counts for it: the pane may lie a cell off the runs' line.
+    bool echoes = false;
+    for (const CellIndex& c : {cell, CellIndex(cell + beside), CellIndex(cell - beside)})
+      echoes = echoes || (free_at(c) && echoed_at(c));
+    echoed += echoes;
+    for (int k = kBesideFrom; k <= kBesideTo; ++k) {
+      for (const CellIndex& c : {CellIndex(cell + k * beside), CellIndex(cell - k * beside)}) {
+        if (!free_at(c)) continue;
+        ++beside_cells;
+        beside_echoed += echoed_at(c);
+      }
+    }
   }
-  return echoed > 0 && echoed >= kMinEchoShare * free_cells;
+  // Shares compared without division: echoed / free >= contrast * beside_echoed / beside_cells.
+  return echoed > 0 && echoed >= kMinEchoShare * free_cells &&
+         static_cast<double>(echoed) * beside_cells >=
+             kMinEchoContrast * beside_echoed * static_cast<double>(free_cells);
 }
 
 void GlassCompletion::extend(const ReflectanceField& field, const CellBox& box, const Run& run,

@@ -35,13 +35,13 @@ class LineOfCells : public ::testing::Test {
   }
   // A beam ended once in every `every`-th cell of [from_x, to_x) on the row (20 deg, oblique to
   // the row), then two more went through: dirt on a pane seen obliquely. The cells stay free.
-  void addEchoes(double from_x, double to_x, int every) {
+  void addEchoes(double from_x, double to_x, int every, int row = 0) {
     int n = 0;
     for (double x = from_x + 0.025; x < to_x; x += 0.05) {
       if (n++ % every != 0) continue;
-      field_.applyHit(cellAt(x, 0), 10);
-      field_.applyMiss(cellAt(x, 0), 10);
-      field_.applyMiss(cellAt(x, 0), 10);
+      field_.applyHit(cellAt(x, row), 10);
+      field_.applyMiss(cellAt(x, row), 10);
+      field_.applyMiss(cellAt(x, row), 10);
     }
   }
   CellIndex cellAt(double x, int row) const {
@@ -109,6 +109,26 @@ TEST_F(FacadeLine, GapThatNeverReturnedStaysOpen) {
   addEchoes(-1.35, -0.35, 20);  // 1 of its 20 cells: people crossing, not a pane's dirt
   EXPECT_TRUE(completion.complete(field_, box_, classes_).empty());
   EXPECT_EQ(glassCells(-1.35, -0.35), 0);
+}
+
+TEST_F(FacadeLine, GapWithEchoesAllAroundItStaysOpen) {
+  // People walked through an opening: beams ended in a quarter of its cells, and as often in
+  // those 3-6 cells beside it.
+  addRun();
+  for (int row = -6; row <= 6; ++row)
+    addEchoes(-1.35, -0.35, 4, row);
+  GlassCompletion completion(field_.geometry(), 2.0);
+  EXPECT_TRUE(completion.complete(field_, box_, classes_).empty());
+}
+
+TEST_F(FacadeLine, GapWithEchoesOnItsLineIsCompletedThoughSomeEndBesideIt) {
+  // Dirt on a pane: echoes in half of its cells, an eighth beside it (people passing in front).
+  addRun();
+  addEchoes(-1.35, -0.35, 2);
+  for (int row : {-6, -5, -4, -3, 3, 4, 5, 6})
+    addEchoes(-1.35, -0.35, 8, row);
+  GlassCompletion completion(field_.geometry(), 2.0);
+  EXPECT_EQ(completion.complete(field_, box_, classes_).size(), 20u);
 }
 
 TEST_F(FacadeLine, GapShorterThanADoorwayNeedsNoEchoes) {
