@@ -14,12 +14,6 @@ namespace {
 constexpr size_t kMinRunCells = 8;
 // Cells of a straight run lie within this of its line (cells), rasterisation included.
 constexpr double kMaxOffLine = 1.0;
-// A pane on a cell boundary, its echoes blurred by range noise, leaves a few cells further out: a
-// run at least kMinStrayRunLength long may have up to kMaxStrayShare of its cells up to
-// kMaxStrayOffLine cells off its line. A short run's line is not sure enough for that.
-constexpr double kMaxStrayOffLine = 1.5;
-constexpr double kMaxStrayShare = 0.1;
-constexpr double kMinStrayRunLength = 0.5;  // m
 // Glass lets most rays through: its cells are missed from at least this many bins on average.
 // A wall seen from a few directions only (narrowly visible too) is missed from almost none.
 constexpr double kMinMeanMissedBins = 10.0;
@@ -32,33 +26,6 @@ const double kMinReturnAcrossLine = std::cos(kPi / 6.0);
 // that frames it, or the next run: a part of the pane that the robot did not face. Shorter than a
 // doorway, which the robot may not have faced either.
 constexpr double kMaxUnfacedEnd = 0.5;  // m
-// Motion on the line closes a gap as a frame only when it is as thin as one: this long along
-// the line at most, and no motion two or three cells beside it. People standing or walking in a
-// passage on the line are wider, and a gap goes on through them.
-constexpr double kMaxMotionFrame = 0.15;  // m
-constexpr int kMotionFrameClearance = 3;  // cells
-// An unfaced stretch longer than a doorway's narrowest (kMaxUnfacedEnd) is glass only if beams
-// ended in at least this share of its free cells at some time (ReflectanceField::everHitAt), and
-// in one at least: glass seen away from its normal still returns now and then (a weak echo, dirt
-// scatter), an opening does not, unless people walk through it.
-constexpr double kMinEchoShare = 0.1;
-// ... and that share is at least this many times the share of the free cells kBesideFrom to
-// kBesideTo cells beside it, either side: dirt on a pane ends beams on the pane's line, people
-// walking through an opening end them all around it.
-constexpr double kMinEchoContrast = 2.0;
-constexpr int kBesideFrom = 3, kBesideTo = 6;  // cells
-
-// Whether `points` lie along `line` as a straight run's cells do (kMaxOffLine, with strays).
-bool liesAlong(const std::vector<Eigen::Vector2d>& points, const LineFit& line, double resolution) {
-  if (line.across <= kMaxOffLine * resolution) return true;
-  if (line.across > kMaxStrayOffLine * resolution || line.last - line.first < kMinStrayRunLength)
-    return false;
-  const Eigen::Vector2d normal(-line.direction.y(), line.direction.x());
-  size_t strays = 0;
-  for (const Eigen::Vector2d& point : points)
-    strays += std::abs((point - line.centre).dot(normal)) > kMaxOffLine * resolution;
-  return static_cast<double>(strays) <= kMaxStrayShare * static_cast<double>(points.size());
-}
 
 }  // namespace
 
@@ -120,7 +87,7 @@ bool GlassCompletion::describeRun(const ReflectanceField& field, const CellBox& 
   run.direction = line.direction;
   run.first = line.first;
   run.last = line.last;
-  if (!liesAlong(points_, line, geometry_.resolution()) || missed < kMinMeanMissedBins)
+  if (line.across > kMaxOffLine * geometry_.resolution() || missed < kMinMeanMissedBins)
     return false;
   // Where this glass returns: the bins most of its cells reflect in.
   const int bins = geometry_.thetaBins();
@@ -193,65 +160,6 @@ bool GlassCompletion::reachesStructure(const ReflectanceField& field, const Cell
   return reached;
 }
 
-bool GlassCompletion::isMotionFrame(const CellBox& box, const std::vector<CellClass>& classes,
-                                    const CellIndex& first, const Eigen::Vector2d& outward,
-                                    const CellIndex& beside) const {
-  const double resolution = geometry_.resolution();
-  auto motion_at = [&](const CellIndex& cell) {
-    return classInBox(box, classes, cell) == CellClass::kMotion;
-  };
-  const Eigen::Vector2d start = geometry_.cellCenter(first);
-  bool ended = false, wide = false;
-  double length = 0.0;
-  const Eigen::Vector2d to = start + outward * (kMaxMotionFrame + 2.0 * resolution);
-  forEachCellOnRayWhile(start, to, geometry_.inverseResolution(), [&](const CellIndex& cell) {
-    if (!box.contains(cell)) return false;
-    if (!motion_at(cell) && !motion_at(cell + beside) && !motion_at(cell - beside)) {
-      ended = true;
-      return false;
-    }
-    for (int k = 2; k <= kMotionFrameClearance && !wide; ++k)
-      wide = motion_at(cell + k * beside) || motion_at(cell - k * beside);
-    length = (geometry_.cellCenter(cell) - start).dot(outward) + resolution;
-    return !wide;
-  });
-  return ended && !wide && length <= kMaxMotionFrame + 1e-9;
-}
-
-bool GlassCompletion::echoesLikeGlass(const ReflectanceField& field, const CellBox& box,
-                                      const std::vector<CellClass>& classes,
-                                      const std::vector<int>& gap, const CellIndex& beside) const {
-  const RollingWindow& window = field.window();
-  auto free_at = [&](const CellIndex& cell) {
-    return box.contains(cell) && classInBox(box, classes, cell) == CellClass::kFree;
-  };
-  auto echoed_at = [&](const CellIndex& cell) {
-    return window.contains(cell) && field.everHitAt(window.storageIndex(cell));
-  };
-  int free_cells = 0, echoed = 0, beside_cells = 0, beside_echoed = 0;
-  for (int i : gap) {
-    if (classes[i] != CellClass::kFree) continue;  // motion the gap goes on through
-    const CellIndex cell = box.cellAt(i);
-    ++free_cells;
-    // A free cell beside the line counts for it: the pane may lie a cell off the runs' line.
-    bool echoes = false;
-    for (const CellIndex& c : {cell, CellIndex(cell + beside), CellIndex(cell - beside)})
-      echoes = echoes || (free_at(c) && echoed_at(c));
-    echoed += echoes;
-    for (int k = kBesideFrom; k <= kBesideTo; ++k) {
-      for (const CellIndex& c : {CellIndex(cell + k * beside), CellIndex(cell - k * beside)}) {
-        if (!free_at(c)) continue;
-        ++beside_cells;
-        beside_echoed += echoed_at(c);
-      }
-    }
-  }
-  // Shares compared without division: echoed / free >= contrast * beside_echoed / beside_cells.
-  return echoed > 0 && echoed >= kMinEchoShare * free_cells &&
-         static_cast<double>(echoed) * beside_cells >=
-             kMinEchoContrast * beside_echoed * static_cast<double>(free_cells);
-}
-
 void GlassCompletion::extend(const ReflectanceField& field, const CellBox& box, const Run& run,
                              const Eigen::Vector2d& from, const Eigen::Vector2d& outward,
                              std::vector<CellClass>& classes, std::vector<int>& completed) const {
@@ -268,14 +176,12 @@ void GlassCompletion::extend(const ReflectanceField& field, const CellBox& box, 
     return isObstacle(c) || c == CellClass::kMotion;
   };
   auto glass_at = [&](const CellIndex& cell) { return class_at(cell) == CellClass::kGlass; };
-  auto obstacle_at = [&](const CellIndex& cell) { return isObstacle(class_at(cell)); };
   std::vector<int> gap;
   Eigen::Vector2d gap_start;
   // Motion cells of the structure the gap began at: between two stretches of glass they are
   // part of the line (a frame), and glass too once the gap closes.
   std::vector<int> framing;
-  int structure = 0;           // cells in the current stretch of structure
-  bool motion_in_gap = false;  // the walk is in motion too wide or long for a frame
+  int structure = 0;  // cells in the current stretch of structure
   auto turn_to_glass = [&](std::vector<int>& cells) {
     for (int i : cells) {
       if (classes[i] == CellClass::kGlass) continue;  // listed twice (a diagonal line)
@@ -288,12 +194,6 @@ void GlassCompletion::extend(const ReflectanceField& field, const CellBox& box, 
   const Eigen::Vector2d to = from + outward * (8.0 * max_gap_ + 1.0);
   auto close_gap = [&] {
     if (gap.empty()) return;
-    const double length =
-        (geometry_.cellCenter(box.cellAt(gap.back())) - gap_start).dot(outward) + resolution;
-    if (length > kMaxUnfacedEnd && !echoesLikeGlass(field, box, classes, gap, beside)) {
-      gap.clear();  // an opening: the walk goes on to the panes beyond it
-      return;
-    }
     turn_to_glass(gap);
     turn_to_glass(framing);
   };
@@ -302,25 +202,12 @@ void GlassCompletion::extend(const ReflectanceField& field, const CellBox& box, 
     // More panes of the line, whether or not they make a run of their own: like a frame they
     // close the gap before them, and however long they are the walk goes on past them.
     if (glass_at(cell) || glass_at(cell + beside) || glass_at(cell - beside)) {
-      motion_in_gap = false;
       close_gap();
       framing.clear();
       structure = 0;
       return true;
     }
     if (structure_at(cell) || structure_at(cell + beside) || structure_at(cell - beside)) {
-      const bool only_motion =
-          !obstacle_at(cell) && !obstacle_at(cell + beside) && !obstacle_at(cell - beside);
-      if (only_motion && !gap.empty() &&
-          (motion_in_gap || !isMotionFrame(box, classes, cell, outward, beside))) {
-        // Not a frame: the gap goes on through it.
-        motion_in_gap = true;
-        for (const CellIndex& c : {CellIndex(cell - beside), cell, CellIndex(cell + beside)}) {
-          if (class_at(c) == CellClass::kMotion) gap.push_back(box.indexOf(c));
-        }
-        return (geometry_.cellCenter(cell) - gap_start).dot(outward) + resolution <= max_gap_;
-      }
-      motion_in_gap = false;
       close_gap();  // structure closes the gap before it
       if (structure == 0) framing.clear();
       for (const CellIndex& c : {CellIndex(cell - beside), cell, CellIndex(cell + beside)}) {
@@ -329,7 +216,6 @@ void GlassCompletion::extend(const ReflectanceField& field, const CellBox& box, 
       return ++structure * resolution <= kMaxStructure;
     }
     structure = 0;
-    motion_in_gap = false;
     const int i = box.indexOf(cell);
     if (classes[i] != CellClass::kFree || !couldBeGlass(field, run, cell)) return false;
     if (gap.empty()) gap_start = geometry_.cellCenter(cell);

@@ -31,9 +31,6 @@ class SyntheticWorld {
   std::vector<Segment> segments;
   std::vector<Disc> people;
   double glass_window = 3.0 * kPi / 180.0;  // returns within this of the normal
-  // Every n-th ray that meets glass away from its normal returns from it all the same (dirt, a
-  // weak echo); 0: none does.
-  int glass_echo_every = 0;
 
   // A glass pane from a to b with short diffuse frames at both ends.
   void addFramedPane(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double frame = 0.06) {
@@ -73,10 +70,6 @@ class SyntheticWorld {
       const Eigen::Vector2d normal(-tangent.y(), tangent.x());
       const double incidence = std::acos(std::min(1.0, std::abs(direction.dot(normal))));
       if (incidence < glass_window) return travelled + best;
-      if (hit_segment->material == Material::kGlass && glass_echo_every > 0 &&
-          ++oblique_glass_rays_ % glass_echo_every == 0) {
-        return travelled + best;
-      }
       travelled += best;
       origin += best * direction;
       if (hit_segment->material == Material::kMirror) {
@@ -132,8 +125,6 @@ class SyntheticWorld {
     if (disc < 0.0) return -1.0;
     return -b - std::sqrt(disc);
   }
-
-  mutable int oblique_glass_rays_ = 0;  // glass_echo_every's count
 };
 
 // Poses along a straight line, heading `yaw`.

@@ -18,10 +18,7 @@ namespace rfm {
 // A free stretch with all three, no longer than `max_gap` between two pieces of structure, is
 // glass the robot has not faced yet. Other panes on the line close a stretch as structure does,
 // and the search along the line goes on past them, however long they are. An opening on the line
-// that the robot has faced (a door) was missed near the normal and stays open; one it has not
-// faced, longer than 0.5 m, stays open when no beam ever ended in it, or no more often than beside
-// it: glass seen obliquely still returns now and then on its line (a weak echo, dirt scatter), an
-// opening does not, and people walking through it end beams all around it.
+// that the robot has faced (a door) was missed near the normal and stays open.
 // A pane faced only in passing (a sparse logger, one lidar driving by) can leave nothing that
 // anchors it, and motion removal draws its returns motion. A straight run of motion cells that is
 // missed from many directions, returned near its normal (within 30 deg) and lies on a line that
@@ -67,17 +64,6 @@ class GlassCompletion {
   bool reachesStructure(const ReflectanceField& field, const CellBox& box, const Run& run,
                         const Eigen::Vector2d& from, const Eigen::Vector2d& outward,
                         const std::vector<CellClass>& classes, std::vector<int>& walked) const;
-  // Whether the motion on the line from `first` along `outward` is as thin as a frame
-  // (kMaxMotionFrame along the line, nothing beside it); `beside` steps across the line.
-  bool isMotionFrame(const CellBox& box, const std::vector<CellClass>& classes,
-                     const CellIndex& first, const Eigen::Vector2d& outward,
-                     const CellIndex& beside) const;
-  // Whether the free cells of `gap` (box indices; `beside` steps across the line) returned as an
-  // unfaced pane does now and then (kMinEchoShare), more often than the cells beside the line
-  // (kMinEchoContrast), not as an opening.
-  bool echoesLikeGlass(const ReflectanceField& field, const CellBox& box,
-                       const std::vector<CellClass>& classes, const std::vector<int>& gap,
-                       const CellIndex& beside) const;
   void extend(const ReflectanceField& field, const CellBox& box, const Run& run,
               const Eigen::Vector2d& from, const Eigen::Vector2d& outward,
               std::vector<CellClass>& classes, std::vector<int>& completed) const;
