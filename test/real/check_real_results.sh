@@ -16,9 +16,9 @@ if [[ ! -d "$data/real" ]]; then
 fi
 [[ -f "$results" ]] || { echo "no $results: real_data_convert_and_map did not run" >&2; exit 1; }
 
-field() {  # field NAME COLUMN
+field() {  # field NAME COLUMN: fails when either is missing (an unknown column is not $0)
   awk -F'\t' -v name="$1" -v column="$2" '
-    NR == 1 { for (i = 1; i <= NF; ++i) index_of[$i] = i; next }
+    NR == 1 { for (i = 1; i <= NF; ++i) index_of[$i] = i; if (!(column in index_of)) exit 1; next }
     $1 == name { print $(index_of[column]); found = 1 }
     END { if (!found) exit 1 }' "$results"
 }
