@@ -14,6 +14,15 @@ namespace {
 constexpr size_t kMinRunCells = 8;
 // Cells of a straight run lie within this of its line (cells), rasterisation included.
 constexpr double kMaxOffLine = 1.0;
+// A pane on a cell boundary, its echoes blurred by range noise, leaves a few cells further out: a
+// run at least kMinStrayRunLength long may have up to kMaxStrayShare of its cells up to
+// kMaxStrayOffLine cells off its line (a blurred run). A short run's line is not sure enough for
+// that. A blurred run's line is less sure, so it completes less than a straight run: motion on its
+// line (people on the floor past a pane's end) ends the walk instead of framing a gap, and an
+// unfaced stretch longer than kMaxUnfacedEnd closes only where it echoed as glass does.
+constexpr double kMaxStrayOffLine = 1.5;
+constexpr double kMaxStrayShare = 0.1;
+constexpr double kMinStrayRunLength = 0.5;  // m
 // Glass lets most rays through: its cells are missed from at least this many bins on average.
 // A wall seen from a few directions only (narrowly visible too) is missed from almost none.
 constexpr double kMinMeanMissedBins = 10.0;
@@ -26,6 +35,29 @@ const double kMinReturnAcrossLine = std::cos(kPi / 6.0);
 // that frames it, or the next run: a part of the pane that the robot did not face. Shorter than a
 // doorway, which the robot may not have faced either.
 constexpr double kMaxUnfacedEnd = 0.5;  // m
+// An unfaced stretch of a blurred run's line longer than a doorway's narrowest (kMaxUnfacedEnd) is
+// glass only if beams ended in at least this share of its free cells at some time
+// (ReflectanceField::everHitAt), and in one at least: glass seen away from its normal still
+// returns now and then (a weak echo, dirt scatter), an opening does not, unless people walk
+// through it.
+constexpr double kMinEchoShare = 0.1;
+// ... and that share is at least this many times the share of the free cells kBesideFrom to
+// kBesideTo cells beside it, either side: dirt on a pane ends beams on the pane's line, people
+// walking through an opening end them all around it.
+constexpr double kMinEchoContrast = 2.0;
+constexpr int kBesideFrom = 3, kBesideTo = 6;  // cells
+
+// Whether `points` lie along `line` as a straight run's cells do (kMaxOffLine, with strays).
+bool liesAlong(const std::vector<Eigen::Vector2d>& points, const LineFit& line, double resolution) {
+  if (line.across <= kMaxOffLine * resolution) return true;
+  if (line.across > kMaxStrayOffLine * resolution || line.last - line.first < kMinStrayRunLength)
+    return false;
+  const Eigen::Vector2d normal(-line.direction.y(), line.direction.x());
+  size_t strays = 0;
+  for (const Eigen::Vector2d& point : points)
+    strays += std::abs((point - line.centre).dot(normal)) > kMaxOffLine * resolution;
+  return static_cast<double>(strays) <= kMaxStrayShare * static_cast<double>(points.size());
+}
 
 }  // namespace
 
@@ -87,7 +119,8 @@ bool GlassCompletion::describeRun(const ReflectanceField& field, const CellBox& 
   run.direction = line.direction;
   run.first = line.first;
   run.last = line.last;
-  if (line.across > kMaxOffLine * geometry_.resolution() || missed < kMinMeanMissedBins)
+  run.blurred = line.across > kMaxOffLine * geometry_.resolution();
+  if (!liesAlong(points_, line, geometry_.resolution()) || missed < kMinMeanMissedBins)
     return false;
   // Where this glass returns: the bins most of its cells reflect in.
   const int bins = geometry_.thetaBins();
@@ -160,6 +193,39 @@ bool GlassCompletion::reachesStructure(const ReflectanceField& field, const Cell
   return reached;
 }
 
+bool GlassCompletion::echoesLikeGlass(const ReflectanceField& field, const CellBox& box,
+                                      const std::vector<CellClass>& classes,
+                                      const std::vector<int>& gap, const CellIndex& beside) const {
+  const RollingWindow& window = field.window();
+  auto free_at = [&](const CellIndex& cell) {
+    return box.contains(cell) && classInBox(box, classes, cell) == CellClass::kFree;
+  };
+  auto echoed_at = [&](const CellIndex& cell) {
+    return window.contains(cell) && field.everHitAt(window.storageIndex(cell));
+  };
+  int free_cells = 0, echoed = 0, beside_cells = 0, beside_echoed = 0;
+  for (int i : gap) {
+    const CellIndex cell = box.cellAt(i);
+    ++free_cells;
+    // A free cell beside the line counts for it: the pane may lie a cell off the runs' line.
+    bool echoes = false;
+    for (const CellIndex& c : {cell, CellIndex(cell + beside), CellIndex(cell - beside)})
+      echoes = echoes || (free_at(c) && echoed_at(c));
+    echoed += echoes;
+    for (int k = kBesideFrom; k <= kBesideTo; ++k) {
+      for (const CellIndex& c : {CellIndex(cell + k * beside), CellIndex(cell - k * beside)}) {
+        if (!free_at(c)) continue;
+        ++beside_cells;
+        beside_echoed += echoed_at(c);
+      }
+    }
+  }
+  // Shares compared without division: echoed / free >= contrast * beside_echoed / beside_cells.
+  return echoed > 0 && echoed >= kMinEchoShare * free_cells &&
+         static_cast<double>(echoed) * beside_cells >=
+             kMinEchoContrast * beside_echoed * static_cast<double>(free_cells);
+}
+
 void GlassCompletion::extend(const ReflectanceField& field, const CellBox& box, const Run& run,
                              const Eigen::Vector2d& from, const Eigen::Vector2d& outward,
                              std::vector<CellClass>& classes, std::vector<int>& completed) const {
@@ -176,6 +242,7 @@ void GlassCompletion::extend(const ReflectanceField& field, const CellBox& box, 
     return isObstacle(c) || c == CellClass::kMotion;
   };
   auto glass_at = [&](const CellIndex& cell) { return class_at(cell) == CellClass::kGlass; };
+  auto obstacle_at = [&](const CellIndex& cell) { return isObstacle(class_at(cell)); };
   std::vector<int> gap;
   Eigen::Vector2d gap_start;
   // Motion cells of the structure the gap began at: between two stretches of glass they are
@@ -194,6 +261,13 @@ void GlassCompletion::extend(const ReflectanceField& field, const CellBox& box, 
   const Eigen::Vector2d to = from + outward * (8.0 * max_gap_ + 1.0);
   auto close_gap = [&] {
     if (gap.empty()) return;
+    const double length =
+        (geometry_.cellCenter(box.cellAt(gap.back())) - gap_start).dot(outward) + resolution;
+    if (run.blurred && length > kMaxUnfacedEnd &&
+        !echoesLikeGlass(field, box, classes, gap, beside)) {
+      gap.clear();  // an opening: the walk goes on to the panes beyond it
+      return;
+    }
     turn_to_glass(gap);
     turn_to_glass(framing);
   };
@@ -208,6 +282,11 @@ void GlassCompletion::extend(const ReflectanceField& field, const CellBox& box, 
       return true;
     }
     if (structure_at(cell) || structure_at(cell + beside) || structure_at(cell - beside)) {
+      // A blurred run's line is less sure: motion on it may be people past the pane's end.
+      if (run.blurred && !obstacle_at(cell) && !obstacle_at(cell + beside) &&
+          !obstacle_at(cell - beside)) {
+        return false;
+      }
       close_gap();  // structure closes the gap before it
       if (structure == 0) framing.clear();
       for (const CellIndex& c : {CellIndex(cell - beside), cell, CellIndex(cell + beside)}) {

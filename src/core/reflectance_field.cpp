@@ -49,7 +49,7 @@ ReflectanceField::ReflectanceField(const GridOptions& grid, const LogOddsOptions
             plane_ * theta_bins_ <= kHugePageSliceBytes ? PageKind::kHuge : PageKind::kOrdinary),
       reflective_masks_(plane_ * mask_words_, bins_.pages()),
       missed_bins_(plane_, 0),
-      hit_since_tick_(plane_, 0),
+      hit_flags_(plane_, 0),
       confident_miss_since_tick_(plane_, 0),
       reflective_bins_(plane_, 0),
       tile_reflective_cells_(window_.storageTiles(), 0),
@@ -156,7 +156,7 @@ double ReflectanceField::reflectiveOddsAt(int storage_index) const {
 
 size_t ReflectanceField::activeBytes() const {
   return bins_.size() * sizeof(int8_t) + reflective_masks_.size() * sizeof(uint64_t) +
-         missed_bins_.size() * sizeof(uint16_t) + hit_since_tick_.size() +
+         missed_bins_.size() * sizeof(uint16_t) + hit_flags_.size() +
          confident_miss_since_tick_.size() + reflective_bins_.size() * sizeof(uint16_t) +
          tile_reflective_cells_.size() * sizeof(int) + tile_versions_.size() * sizeof(uint32_t);
 }
@@ -181,7 +181,7 @@ void ReflectanceField::clear() {
     }
   }
   std::fill(missed_bins_.begin(), missed_bins_.end(), 0);
-  std::fill(hit_since_tick_.begin(), hit_since_tick_.end(), 0);
+  std::fill(hit_flags_.begin(), hit_flags_.end(), 0);
   std::fill(confident_miss_since_tick_.begin(), confident_miss_since_tick_.end(), 0);
   std::fill(reflective_bins_.begin(), reflective_bins_.end(), 0);
   std::fill(tile_reflective_cells_.begin(), tile_reflective_cells_.end(), 0);
@@ -231,7 +231,7 @@ void ReflectanceField::clearTileStorage(const TileIndex& tile, bool bins_too) {
       std::fill_n(&bins_[bin * plane_ + first], cells, 0);
   }
   std::fill_n(&missed_bins_[first], cells, 0);
-  std::fill_n(&hit_since_tick_[first], cells, 0);
+  std::fill_n(&hit_flags_[first], cells, 0);
   std::fill_n(&confident_miss_since_tick_[first], cells, 0);
   std::fill_n(&reflective_bins_[first], cells, 0);
   std::fill_n(&reflective_masks_[first * mask_words_], cells * mask_words_, 0);
@@ -261,6 +261,7 @@ void ReflectanceField::rebuildSummaries(const TileIndex& tile) {
   for (size_t c = 0; c < cells; ++c) {
     reflective_bins_[first + c] = reflective[c];
     missed_bins_[first + c] = missed[c];
+    if (reflective[c] != 0) hit_flags_[first + c] |= kEverHit;
     reflective_cells += reflective[c] != 0;
   }
   const int storage_tile = window_.storageTile(tile);

@@ -201,6 +201,39 @@ TEST(ReflectanceField, SliceWriterSummariesMatchBinsForAnyStepsAndClamps) {
   }
 }
 
+// Glass completion asks whether a beam ever ended in a cell, however many went through it since:
+// the flag outlives the persistence ticks and the bins' own evidence, until the field is cleared.
+TEST(ReflectanceField, RemembersTheCellsEverHitUntilCleared) {
+  ReflectanceField field = testing::centredField(2.0);
+  const RollingWindow& window = field.window();
+  const int hit_once = window.storageIndex({3, 4}), written = window.storageIndex({-5, 7});
+  const int missed_only = window.storageIndex({5, 4});
+  field.applyHit({3, 4}, 20);
+  field.sliceWriter(100, nullptr).hit(written);
+  for (int i = 0; i < 10; ++i) {
+    field.applyMiss({3, 4}, 20);
+    field.sliceWriter(100, nullptr).miss(written);
+    field.applyMiss({5, 4}, 20);
+  }
+  EXPECT_EQ(field.reflectiveBins({3, 4}), 0);  // the bins forgot the hit
+  for (const int slot : {hit_once, written}) {
+    EXPECT_TRUE(field.everHitAt(slot));
+    EXPECT_TRUE(field.hitSinceTick(slot));
+  }
+  EXPECT_FALSE(field.everHitAt(missed_only));
+  EXPECT_FALSE(field.hitSinceTick(missed_only));
+  // A persistence tick clears what happened since the last one, not the memory of hits.
+  for (const int slot : {hit_once, written}) {
+    field.clearSinceTick(slot, 1);
+    EXPECT_FALSE(field.hitSinceTick(slot));
+    EXPECT_TRUE(field.everHitAt(slot));
+  }
+  field.clear();
+  field.recenter({0.0, 0.0});
+  EXPECT_FALSE(field.everHitAt(window.storageIndex({3, 4})));
+  EXPECT_FALSE(field.everHitAt(window.storageIndex({-5, 7})));
+}
+
 // Online reflection removal takes evidence back; clamping means a miss at the lower clamp
 // changed nothing, so reverts stop at the prior instead of inventing the opposite evidence.
 TEST(ReflectanceField, RevertsMoveTowardsThePriorAndNeverPastIt) {
@@ -470,6 +503,13 @@ TEST(ReflectanceField, LeaveAndReturnRestoresEvidenceBitForBit) {
   EXPECT_EQ(after, before);
   EXPECT_EQ(reflective_after, reflective_before);
   EXPECT_EQ(field.archivedTiles(), 0u);  // restored tiles leave the archive
+  // Of the hits, a restored tile remembers those that still show: its reflective cells.
+  for (int cy = box.min.y(); cy < box.max.y(); ++cy) {
+    for (int cx = box.min.x(); cx < box.max.x(); ++cx) {
+      ASSERT_EQ(field.everHitAt(field.window().storageIndex({cx, cy})),
+                field.reflectiveBins({cx, cy}) > 0);
+    }
+  }
 }
 
 // Motion removal trusts the per-tile counts and versions to skip and reuse tiles: the counts

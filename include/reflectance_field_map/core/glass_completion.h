@@ -19,6 +19,13 @@ namespace rfm {
 // glass the robot has not faced yet. Other panes on the line close a stretch as structure does,
 // and the search along the line goes on past them, however long they are. An opening on the line
 // that the robot has faced (a door) was missed near the normal and stays open.
+// A run whose pane lies on a cell boundary is blurred: a few of its cells lie up to 1.5 cells off
+// its line. Its line is less sure, so its walk ends at motion (people on the floor past a pane's
+// end), and an unfaced stretch of it longer than 0.5 m stays open when no beam ever ended in it, or
+// no more often than beside it: glass seen obliquely still returns now and then on its line (a weak
+// echo, dirt scatter), an opening does not, and people walking through it end beams all around
+// it. A straight run's stretches close without echoes: clean glass returns none away from its
+// normal.
 // A pane faced only in passing (a sparse logger, one lidar driving by) can leave nothing that
 // anchors it, and motion removal draws its returns motion. A straight run of motion cells that is
 // missed from many directions, returned near its normal (within 30 deg) and lies on a line that
@@ -45,6 +52,7 @@ class GlassCompletion {
     double first = 0.0, last = 0.0;  // m along `direction` from `centre`
     std::vector<int> return_bins;    // where most of its cells reflect: glass there returns
     std::vector<int> cells;          // its cells' indices in the box
+    bool blurred = false;            // a few of its cells lie more than a cell off its line
   };
   // The straight runs of `of_class` cells (glass, or motion that may be glass).
   void collectRuns(const ReflectanceField& field, const CellBox& box,
@@ -64,6 +72,12 @@ class GlassCompletion {
   bool reachesStructure(const ReflectanceField& field, const CellBox& box, const Run& run,
                         const Eigen::Vector2d& from, const Eigen::Vector2d& outward,
                         const std::vector<CellClass>& classes, std::vector<int>& walked) const;
+  // Whether the free cells of `gap` (box indices; `beside` steps across the line) returned as an
+  // unfaced pane does now and then (kMinEchoShare), more often than the cells beside the line
+  // (kMinEchoContrast), not as an opening.
+  bool echoesLikeGlass(const ReflectanceField& field, const CellBox& box,
+                       const std::vector<CellClass>& classes, const std::vector<int>& gap,
+                       const CellIndex& beside) const;
   void extend(const ReflectanceField& field, const CellBox& box, const Run& run,
               const Eigen::Vector2d& from, const Eigen::Vector2d& outward,
               std::vector<CellClass>& classes, std::vector<int>& completed) const;

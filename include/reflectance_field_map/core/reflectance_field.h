@@ -143,7 +143,7 @@ class ReflectanceField {
     int8_t& v = bins_[static_cast<size_t>(bin) * plane_ + storage_index];
     const int8_t old = v;
     v = log_odds_.hit(old);
-    hit_since_tick_[storage_index] = 1;
+    hit_flags_[storage_index] = kHitSinceTick | kEverHit;
     tick_pending_[storage_index >> window_.tileSlotShift()] = 1;
     applySummaryChange(storage_index, bin, old <= 0 && v > 0, old < 0 && v >= 0 ? -1 : 0);
   }
@@ -204,14 +204,22 @@ class ReflectanceField {
   // reads and clears it): the cells hit, the cells with a bin newly missed with confidence
   // (confidentMissValue), and the storage tiles where either happened or a mask changed. A tick
   // changes nothing in the other tiles.
-  bool hitSinceTick(int storage_index) const { return hit_since_tick_[storage_index] != 0; }
+  bool hitSinceTick(int storage_index) const {
+    return (hit_flags_[storage_index] & kHitSinceTick) != 0;
+  }
   bool confidentlyMissedSinceTick(int storage_index) const {
     return confident_miss_since_tick_[storage_index] != 0;
   }
   void clearSinceTick(int first_slot, int count) {
-    std::fill_n(&hit_since_tick_[first_slot], count, uint8_t{0});
+    uint8_t* const flags = &hit_flags_[first_slot];
+    for (int i = 0; i < count; ++i)
+      flags[i] &= kEverHit;  // a tick forgets what happened since the last one, not the hits
     std::fill_n(&confident_miss_since_tick_[first_slot], count, uint8_t{0});
   }
+  // Whether a beam has ended in the cell since the field was cleared (or the cell's tile entered
+  // the window: a restored tile remembers the hits of its reflective cells only). Glass away
+  // from its normal still returns now and then (a weak echo, dirt); an opening never does.
+  bool everHitAt(int storage_index) const { return (hit_flags_[storage_index] & kEverHit) != 0; }
   // Whether the storage tile changed since the last tick; from now on it has not.
   bool takeTickPending(int storage_tile) {
     return std::exchange(tick_pending_[storage_tile], uint8_t{0}) != 0;
@@ -253,6 +261,7 @@ class ReflectanceField {
 
  private:
   friend class detail::SliceWriter;
+  static constexpr uint8_t kHitSinceTick = 1, kEverHit = 2;  // bits of hit_flags_
   void applySummaryChange(int storage_index, int bin, int reflective, int missed) {
     if ((reflective | missed) == 0) return;
     const int tile = storage_index >> window_.tileSlotShift();
@@ -293,7 +302,7 @@ class ReflectanceField {
   ZeroedHugeArray<int8_t> bins_;                    // [bin][y][x]
   ZeroedHugeArray<uint64_t> reflective_masks_;      // [y][x][word]
   std::vector<uint16_t> missed_bins_;               // [y][x]
-  std::vector<uint8_t> hit_since_tick_;             // [y][x]
+  std::vector<uint8_t> hit_flags_;                  // [y][x], kHitSinceTick | kEverHit
   std::vector<uint8_t> confident_miss_since_tick_;  // [y][x]
   std::vector<uint16_t> reflective_bins_;           // [y][x]
   std::vector<int> tile_reflective_cells_;          // per storage tile

@@ -21,9 +21,10 @@ class SliceWriter {
     const int old = v;
     const int updated = old + hit_step_ > max_ ? max_ : old + hit_step_;
     v = static_cast<int8_t>(updated);
-    // Every writer stores the same 1: relaxed atomic, so concurrent writers are well defined.
-    if (!relaxedLoad(&hit_flags_[slot])) {
-      relaxedStore(&hit_flags_[slot], 1);
+    // Every writer stores the same flags: relaxed atomic, so concurrent writers are well defined.
+    constexpr uint8_t kHitFlags = ReflectanceField::kHitSinceTick | ReflectanceField::kEverHit;
+    if (relaxedLoad(&hit_flags_[slot]) != kHitFlags) {
+      relaxedStore(&hit_flags_[slot], kHitFlags);
       relaxedStore(&tick_pending_[slot >> tile_slot_shift_], 1);
     }
     // Only a bin in [-hit_step, 0] reaches or crosses the prior (p = 0.5) on a hit: one test.
@@ -87,7 +88,7 @@ class SliceWriter {
 inline detail::SliceWriter ReflectanceField::sliceWriter(int bin, DeferredSummaries* deferred) {
   detail::SliceWriter w;
   w.bins_ = &bins_[static_cast<size_t>(bin) * plane_];
-  w.hit_flags_ = hit_since_tick_.data();
+  w.hit_flags_ = hit_flags_.data();
   w.confident_miss_flags_ = confident_miss_since_tick_.data();
   w.tick_pending_ = tick_pending_.data();
   w.field_ = this;
