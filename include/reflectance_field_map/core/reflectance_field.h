@@ -218,7 +218,8 @@ class ReflectanceField {
   }
   // Whether a beam has ended in the cell since the field was cleared (or the cell's tile entered
   // the window: a restored tile remembers the hits of its reflective cells only). Glass away
-  // from its normal still returns now and then (a weak echo, dirt); an opening never does.
+  // from its normal still returns now and then (a weak echo, dirt); an opening only where
+  // something passes through it.
   bool everHitAt(int storage_index) const { return (hit_flags_[storage_index] & kEverHit) != 0; }
   // Whether the storage tile changed since the last tick; from now on it has not.
   bool takeTickPending(int storage_tile) {
