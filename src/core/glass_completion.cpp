@@ -47,9 +47,10 @@ constexpr double kMinEchoShare = 0.1;
 constexpr double kMinEchoContrast = 2.0;
 constexpr int kBesideFrom = 3, kBesideTo = 6;  // cells
 
-// Whether `points` lie along `line` as a straight run's cells do (kMaxOffLine, with strays).
-bool liesAlong(const std::vector<Eigen::Vector2d>& points, const LineFit& line, double resolution) {
-  if (line.across <= kMaxOffLine * resolution) return true;
+// Whether the cells at `points`, which stray more than kMaxOffLine from `line`, still make a
+// (blurred) run: few strays, none far out, on a line long enough to be sure of.
+bool straysAreFew(const std::vector<Eigen::Vector2d>& points, const LineFit& line,
+                  double resolution) {
   if (line.across > kMaxStrayOffLine * resolution || line.last - line.first < kMinStrayRunLength)
     return false;
   const Eigen::Vector2d normal(-line.direction.y(), line.direction.x());
@@ -120,7 +121,8 @@ bool GlassCompletion::describeRun(const ReflectanceField& field, const CellBox& 
   run.first = line.first;
   run.last = line.last;
   run.blurred = line.across > kMaxOffLine * geometry_.resolution();
-  if (!liesAlong(points_, line, geometry_.resolution()) || missed < kMinMeanMissedBins)
+  if ((run.blurred && !straysAreFew(points_, line, geometry_.resolution())) ||
+      missed < kMinMeanMissedBins)
     return false;
   // Where this glass returns: the bins most of its cells reflect in.
   const int bins = geometry_.thetaBins();
