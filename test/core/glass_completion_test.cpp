@@ -249,5 +249,72 @@ TEST_F(UnanchoredPane, RunBesideAnOpeningFacedStaysMotion) {
   EXPECT_TRUE(completion.complete(field_, box_, classes_).empty());
 }
 
+// A pane along y = 0 that a sparse logger faced at three points only, as motion removal leaves
+// it: walls (static) 0.4 m beyond its outer specks, and three single motion cells, 0.9 m apart,
+// that returned in `bin` and were missed from twelve other directions.
+class SpeckedPane : public LineOfCells {
+ protected:
+  SpeckedPane() {
+    set(-1.5, -1.3, CellClass::kStatic);
+    set(1.3, 1.5, CellClass::kStatic);
+  }
+  void addSpecks(int bin) {
+    for (double x : {-0.9, 0.0, 0.9}) {
+      set(x - 0.025, x + 0.025, CellClass::kMotion);
+      addGlassEvidence(x - 0.025, x + 0.025, bin, 60);
+    }
+  }
+};
+
+TEST_F(SpeckedPane, SpecksAcrossTheirReturnsBetweenStructureAreGlass) {
+  addSpecks(kNormalBin);
+  GlassCompletion completion(field_.geometry(), 2.0);
+  const std::vector<int>& completed = completion.complete(field_, box_, classes_);
+  // The specks and the unfaced stretches between them.
+  EXPECT_EQ(cellsOf(-0.925, 0.925, CellClass::kGlass), 37);
+  EXPECT_EQ(completed.size(), 37u);
+  EXPECT_EQ(completion.turnedFromMotion(), 3u);
+  EXPECT_EQ(cellsOf(-1.5, -1.3, CellClass::kStatic), 4);
+}
+
+TEST_F(SpeckedPane, SpecksSeenAlongTheirLineStayMotion) {
+  addSpecks(0);  // someone walking away from the robot, seen at three scans
+  GlassCompletion completion(field_.geometry(), 2.0);
+  EXPECT_TRUE(completion.complete(field_, box_, classes_).empty());
+  EXPECT_EQ(cellsOf(-0.925, 0.925, CellClass::kMotion), 3);
+}
+
+TEST_F(SpeckedPane, SpecksFarFromStructureStayMotion) {
+  addSpecks(kNormalBin);
+  set(-1.5, -1.3, CellClass::kFree);  // no walls: the line runs on to the box's edge
+  set(1.3, 1.5, CellClass::kFree);
+  GlassCompletion completion(field_.geometry(), 2.0);
+  EXPECT_TRUE(completion.complete(field_, box_, classes_).empty());
+}
+
+TEST_F(SpeckedPane, SpecksAmongAsManyBesideThemStayMotion) {
+  addSpecks(kNormalBin);
+  // People's specks 3-6 cells either side, one in twelve cells: where people walk, three specks
+  // line up by chance.
+  for (int row : {-6, -5, -4, -3, 3, 4, 5, 6}) {
+    for (double x = -0.875; x < 0.9; x += 0.6)
+      set(x - 0.025, x + 0.025, CellClass::kMotion, row);
+  }
+  GlassCompletion completion(field_.geometry(), 2.0);
+  EXPECT_TRUE(completion.complete(field_, box_, classes_).empty());
+}
+
+TEST_F(SpeckedPane, StretchLookedThroughNearTheNormalStaysOpen) {
+  addSpecks(kNormalBin);
+  // The robot faced the stretch between the middle and the east speck: an opening.
+  for (double x = 0.075; x < 0.875; x += 0.05)
+    field_.applyMiss(field_.geometry().cellOf({x, 0.025}), kNormalBin);
+  GlassCompletion completion(field_.geometry(), 2.0);
+  completion.complete(field_, box_, classes_);
+  EXPECT_EQ(cellsOf(-0.925, 0.025, CellClass::kGlass), 19);
+  EXPECT_EQ(cellsOf(0.025, 0.875, CellClass::kGlass), 0);
+  EXPECT_EQ(cellsOf(0.875, 0.925, CellClass::kGlass), 1);
+}
+
 }  // namespace
 }  // namespace rfm
