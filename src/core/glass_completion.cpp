@@ -144,6 +144,7 @@ void GlassCompletion::collectSpecks(const ReflectanceField& field, const CellBox
     if (!(speck.facing.norm() > 1e-6)) return;
     speck.facing.normalize();
     speck.centre = sum / static_cast<double>(members.size());
+    if (seenThroughPane(box, classes, speck)) return;
     speck.cells = members;
     std::sort(speck.return_bins.begin(), speck.return_bins.end());
     speck.return_bins.erase(std::unique(speck.return_bins.begin(), speck.return_bins.end()),
@@ -350,6 +351,22 @@ void GlassCompletion::extend(const ReflectanceField& field, const CellBox& box, 
     gap.push_back(i);
     return (geometry_.cellCenter(cell) - gap_start).dot(outward) + resolution <= max_gap_;
   });
+}
+
+bool GlassCompletion::seenThroughPane(const CellBox& box, const std::vector<CellClass>& classes,
+                                      const Speck& speck) const {
+  // Back towards the sensors that saw it, from two cells off (its own cells), to the box's edge.
+  const double resolution = geometry_.resolution();
+  const Eigen::Vector2d from = speck.centre - speck.facing * (2.0 * resolution);
+  const Eigen::Vector2d to = from - speck.facing * ((box.width() + box.height()) * resolution);
+  bool through_pane = false;
+  forEachCellOnRayWhile(from, to, geometry_.inverseResolution(), [&](const CellIndex& cell) {
+    if (!box.contains(cell)) return false;
+    const CellClass c = classInBox(box, classes, cell);
+    through_pane = c == CellClass::kGlass || c == CellClass::kMetal;
+    return !through_pane && c != CellClass::kStatic;
+  });
+  return through_pane;
 }
 
 bool GlassCompletion::motionStandsOut(const CellBox& box, const std::vector<CellClass>& classes,

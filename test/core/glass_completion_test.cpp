@@ -304,6 +304,17 @@ TEST_F(SpeckedPane, SpecksAmongAsManyBesideThemStayMotion) {
   EXPECT_TRUE(completion.complete(field_, box_, classes_).empty());
 }
 
+TEST_F(SpeckedPane, SpecksSeenThroughGlassStayMotion) {
+  addSpecks(kNormalBin);  // rays going north (90 deg) returned from them
+  // A pane 0.5 m south, between them and the sensors: they are the phantom a reflection in it
+  // draws (the mirror image of a wall on the sensors' side).
+  set(-1.5, 1.5, CellClass::kGlass, -10);
+  GlassCompletion completion(field_.geometry(), 2.0);
+  completion.complete(field_, box_, classes_);
+  EXPECT_EQ(cellsOf(-0.925, 0.925, CellClass::kMotion), 3);
+  EXPECT_EQ(cellsOf(-0.925, 0.925, CellClass::kGlass), 0);
+}
+
 TEST_F(SpeckedPane, StretchLookedThroughNearTheNormalStaysOpen) {
   addSpecks(kNormalBin);
   // The robot faced the stretch between the middle and the east speck: an opening.

@@ -38,7 +38,8 @@ namespace rfm {
 // a line that meets structure at both ends within `max_gap` through cells never looked through near
 // that normal, are glass, and so are the stretches between them that were not looked through
 // either. People's specks face wherever the robot was; a line of them across their returns is
-// chance, and where people walk there are as many specks beside it.
+// chance, and where people walk there are as many specks beside it. Specks seen through glass
+// (a reflection's phantom wall, the glass's mirror image of a real one) count for nothing.
 class GlassCompletion {
  public:
   // max_gap: m of free cells between two pieces of structure on the line (0: off).
@@ -64,9 +65,10 @@ class GlassCompletion {
   // A component of motion cells too small for a run, and the mean direction of its returns.
   struct Speck {
     Eigen::Vector2d centre = Eigen::Vector2d::Zero();  // m, its cells' centroid
-    Eigen::Vector2d facing = Eigen::Vector2d::Zero();  // unit: the mean direction of its returns
-    std::vector<int> cells;                            // box indices
-    std::vector<int> return_bins;                      // every bin one of its cells reflects in
+    Eigen::Vector2d facing =
+        Eigen::Vector2d::Zero();   // unit: mean direction of the rays it returned
+    std::vector<int> cells;        // box indices
+    std::vector<int> return_bins;  // every bin one of its cells reflects in
   };
   // Calls visit(members) for each 8-connected component of `of_class` cells of the box.
   template <typename Visit>
@@ -85,6 +87,11 @@ class GlassCompletion {
   // The motion components of the box too small for a run that reflect in some bin.
   void collectSpecks(const ReflectanceField& field, const CellBox& box,
                      const std::vector<CellClass>& classes);
+  // Whether the first glass, metal or static cell back along the speck's returns is glass or
+  // metal: it was seen through a pane or in a mirror (a reflection's phantom, evidence that
+  // Alg. 3 discards), and says nothing of a pane where it lies.
+  bool seenThroughPane(const CellBox& box, const std::vector<CellClass>& classes,
+                       const Speck& speck) const;
   // Turns to glass the specks that line up as a pane faced at a few points (class comment).
   void completeSpeckLines(const ReflectanceField& field, const CellBox& box,
                           std::vector<CellClass>& classes, std::vector<int>& completed);
