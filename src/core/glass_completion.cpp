@@ -56,7 +56,7 @@ const double kMinSpeckFacingAgreement = std::cos(10.0 * kPi / 180.0);
 constexpr double kMinSpeckSpacing = 2.0;
 // A pane's specks hold at least this many times the share of motion cells on their line as the
 // cells beside it do (kBesideFrom to kBesideTo cells): where people walk, specks are all around.
-constexpr double kMinSpeckContrast = 3.0;
+constexpr double kMinSpeckContrast = 10.0;
 
 // Whether the cells at `points`, which stray more than kMaxOffLine from `line`, still make a
 // (blurred) run: few strays, none far out, on a line long enough to be sure of.
@@ -393,6 +393,28 @@ bool GlassCompletion::motionStandsOut(const CellBox& box, const std::vector<Cell
          kMinSpeckContrast * beside * static_cast<double>(on_cells);
 }
 
+bool GlassCompletion::liesAlongWall(const CellBox& box, const std::vector<CellClass>& classes,
+                                    const Run& run) const {
+  const Eigen::Vector2d normal(-run.direction.y(), run.direction.x());
+  // Structure beside the line by a cell still counts as on it (rasterisation).
+  const CellIndex beside =
+      std::abs(normal.y()) >= std::abs(normal.x()) ? CellIndex(0, 1) : CellIndex(1, 0);
+  auto static_at = [&](const CellIndex& cell) {
+    return classInBox(box, classes, cell) == CellClass::kStatic;
+  };
+  int structure = 0;  // cells in the current stretch of static cells
+  bool wall = false;
+  forEachCellOnRayWhile(
+      run.centre + run.direction * run.first, run.centre + run.direction * run.last,
+      geometry_.inverseResolution(), [&](const CellIndex& cell) {
+        const bool on = static_at(cell) || static_at(cell + beside) || static_at(cell - beside);
+        structure = on ? structure + 1 : 0;
+        wall = structure * geometry_.resolution() > kMaxStructure;
+        return !wall;
+      });
+  return wall;
+}
+
 bool GlassCompletion::speckLineIsPane(const ReflectanceField& field, const CellBox& box,
                                       const std::vector<CellClass>& classes,
                                       std::vector<int>& specks, Run& run) {
@@ -421,7 +443,7 @@ bool GlassCompletion::speckLineIsPane(const ReflectanceField& field, const CellB
   const Eigen::Vector2d last = run.centre + run.direction * run.last;
   walked_.clear();
   // A pane's frames close its line; its unfaced stretches may be as long as any gap.
-  return motionStandsOut(box, classes, first, last) &&
+  return !liesAlongWall(box, classes, run) && motionStandsOut(box, classes, first, last) &&
          reachesStructure(field, box, run, last, run.direction, classes, max_gap_, walked_) &&
          reachesStructure(field, box, run, first, -run.direction, classes, max_gap_, walked_);
 }

@@ -104,6 +104,11 @@ class GlassCompletion {
   bool unfacedStretch(const ReflectanceField& field, const CellBox& box, const Run& run,
                       const std::vector<CellClass>& classes, const Eigen::Vector2d& from,
                       const Eigen::Vector2d& to, std::vector<int>& cells) const;
+  // Whether the run's line, between its first and last point, holds a stretch of static cells
+  // (within a cell of it) longer than a frame (kMaxStructure): specks on it are the bits of a
+  // wall that nothing anchored, not a pane.
+  bool liesAlongWall(const CellBox& box, const std::vector<CellClass>& classes,
+                     const Run& run) const;
   // Whether the cells within a cell of the segment [from, to] hold at least kMinSpeckContrast
   // times the share of motion cells of those kBesideFrom to kBesideTo cells beside it.
   bool motionStandsOut(const CellBox& box, const std::vector<CellClass>& classes,
