@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <numeric>
 
 namespace rfm {
 namespace {
@@ -47,16 +46,6 @@ constexpr double kMinEchoShare = 0.1;
 // walking through an opening end them all around it.
 constexpr double kMinEchoContrast = 2.0;
 constexpr int kBesideFrom = 3, kBesideTo = 6;  // cells
-// A pane returns within a few degrees of its normal (a cone of 1.5-4 deg, in bins of 2 deg): two
-// specks of one pane lie on a line within this of across their returns ...
-const double kMaxSpeckLineAlongReturns = std::sin(6.0 * kPi / 180.0);
-// ... and face the same way, or opposite ways (seen from both sides), within this.
-const double kMinSpeckFacingAgreement = std::cos(10.0 * kPi / 180.0);
-// Specks closer than this (centroids, cells) give no line.
-constexpr double kMinSpeckSpacing = 2.0;
-// A pane's specks hold at least this many times the share of motion cells on their line as the
-// cells beside it do (kBesideFrom to kBesideTo cells): where people walk, specks are all around.
-constexpr double kMinSpeckContrast = 10.0;
 
 // Whether the cells at `points`, which stray more than kMaxOffLine from `line`, still make a
 // (blurred) run: few strays, none far out, on a line long enough to be sure of.
@@ -76,9 +65,10 @@ bool straysAreFew(const std::vector<Eigen::Vector2d>& points, const LineFit& lin
 GlassCompletion::GlassCompletion(const GridGeometry& geometry, double max_gap)
     : geometry_(geometry), max_gap_(max_gap) {}
 
-template <typename Visit>
-void GlassCompletion::forEachComponent(const CellBox& box, const std::vector<CellClass>& classes,
-                                       CellClass of_class, Visit&& visit) {
+void GlassCompletion::collectRuns(const ReflectanceField& field, const CellBox& box,
+                                  const std::vector<CellClass>& classes, CellClass of_class,
+                                  std::vector<Run>& runs) {
+  runs.clear();
   const int width = box.width(), height = box.height();
   // Glass and motion are rare: jump from one such cell to the next, and clear only the marks set.
   if (visited_.size() != classes.size()) visited_.assign(classes.size(), 0);
@@ -104,53 +94,15 @@ void GlassCompletion::forEachComponent(const CellBox& box, const std::vector<Cel
         },
         stack, members);
     visited_cells_.insert(visited_cells_.end(), members.begin(), members.end());
-    visit(members);
-  }
-  for (int i : visited_cells_)
-    visited_[i] = 0;
-}
-
-void GlassCompletion::collectRuns(const ReflectanceField& field, const CellBox& box,
-                                  const std::vector<CellClass>& classes, CellClass of_class,
-                                  std::vector<Run>& runs) {
-  runs.clear();
-  forEachComponent(box, classes, of_class, [&](const std::vector<int>& members) {
-    if (members.size() < kMinRunCells) return;
+    if (members.size() < kMinRunCells) continue;
     Run run;
     if (describeRun(field, box, members, run)) {
       run.cells = members;
       runs.push_back(std::move(run));
     }
-  });
-}
-
-void GlassCompletion::collectSpecks(const ReflectanceField& field, const CellBox& box,
-                                    const std::vector<CellClass>& classes) {
-  specks_.clear();
-  forEachComponent(box, classes, CellClass::kMotion, [&](const std::vector<int>& members) {
-    if (members.size() >= kMinRunCells) return;
-    Speck speck;
-    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
-    for (int i : members) {
-      const CellIndex cell = box.cellAt(i);
-      sum += geometry_.cellCenter(cell);
-      forEachMaskBit(field.reflectiveMask(cell), field.maskWords(), [&](int bin) {
-        const double angle = geometry_.binCenter(bin);
-        speck.facing += Eigen::Vector2d(std::cos(angle), std::sin(angle));
-        speck.return_bins.push_back(bin);
-      });
-    }
-    // No return left (a cell that reflects nowhere) or returns from all round: no direction.
-    if (!(speck.facing.norm() > 1e-6)) return;
-    speck.facing.normalize();
-    speck.centre = sum / static_cast<double>(members.size());
-    if (seenThroughPane(box, classes, speck)) return;
-    speck.cells = members;
-    std::sort(speck.return_bins.begin(), speck.return_bins.end());
-    speck.return_bins.erase(std::unique(speck.return_bins.begin(), speck.return_bins.end()),
-                            speck.return_bins.end());
-    specks_.push_back(std::move(speck));
-  });
+  }
+  for (int i : visited_cells_)
+    visited_[i] = 0;
 }
 
 bool GlassCompletion::describeRun(const ReflectanceField& field, const CellBox& box,
@@ -209,7 +161,7 @@ bool GlassCompletion::returnsAcrossLine(const Run& run) const {
 bool GlassCompletion::reachesStructure(const ReflectanceField& field, const CellBox& box,
                                        const Run& run, const Eigen::Vector2d& from,
                                        const Eigen::Vector2d& outward,
-                                       const std::vector<CellClass>& classes, double max_unfaced,
+                                       const std::vector<CellClass>& classes,
                                        std::vector<int>& walked) const {
   const Eigen::Vector2d normal(-run.direction.y(), run.direction.x());
   const CellIndex beside =
@@ -233,7 +185,7 @@ bool GlassCompletion::reachesStructure(const ReflectanceField& field, const Cell
       free_from = -1.0;
     } else if (c == CellClass::kFree && couldBeGlass(field, run, cell)) {
       if (free_from < 0.0) free_from = along;
-      if (along - free_from + geometry_.resolution() > max_unfaced) return false;
+      if (along - free_from + geometry_.resolution() > kMaxUnfacedEnd) return false;
     } else {
       return false;
     }
@@ -353,204 +305,24 @@ void GlassCompletion::extend(const ReflectanceField& field, const CellBox& box, 
   });
 }
 
-bool GlassCompletion::seenThroughPane(const CellBox& box, const std::vector<CellClass>& classes,
-                                      const Speck& speck) const {
-  // Back towards the sensors that saw it, from two cells off (its own cells), to the box's edge.
-  const double resolution = geometry_.resolution();
-  const Eigen::Vector2d from = speck.centre - speck.facing * (2.0 * resolution);
-  const Eigen::Vector2d to = from - speck.facing * ((box.width() + box.height()) * resolution);
-  bool through_pane = false;
-  forEachCellOnRayWhile(from, to, geometry_.inverseResolution(), [&](const CellIndex& cell) {
-    if (!box.contains(cell)) return false;
-    const CellClass c = classInBox(box, classes, cell);
-    through_pane = c == CellClass::kGlass || c == CellClass::kMetal;
-    return !through_pane && c != CellClass::kStatic;
-  });
-  return through_pane;
-}
-
-bool GlassCompletion::motionStandsOut(const CellBox& box, const std::vector<CellClass>& classes,
-                                      const Eigen::Vector2d& from,
-                                      const Eigen::Vector2d& to) const {
-  const Eigen::Vector2d along = (to - from).normalized();
-  const Eigen::Vector2d normal(-along.y(), along.x());
-  int on = 0, on_cells = 0, beside = 0, beside_cells = 0;
-  for (int k = -kBesideTo; k <= kBesideTo; ++k) {
-    const bool on_line = std::abs(k) <= 1;
-    if (!on_line && std::abs(k) < kBesideFrom) continue;
-    const Eigen::Vector2d shift = normal * (k * geometry_.resolution());
-    forEachCellOnRayWhile(
-        from + shift, to + shift, geometry_.inverseResolution(), [&](const CellIndex& cell) {
-          if (!box.contains(cell)) return true;
-          const bool motion = classInBox(box, classes, cell) == CellClass::kMotion;
-          (on_line ? on : beside) += motion;
-          ++(on_line ? on_cells : beside_cells);
-          return true;
-        });
-  }
-  // Shares compared without division: on / on_cells >= contrast * beside / beside_cells.
-  return static_cast<double>(on) * beside_cells >=
-         kMinSpeckContrast * beside * static_cast<double>(on_cells);
-}
-
-bool GlassCompletion::liesAlongWall(const CellBox& box, const std::vector<CellClass>& classes,
-                                    const Run& run) const {
-  const Eigen::Vector2d normal(-run.direction.y(), run.direction.x());
-  // Structure beside the line by a cell still counts as on it (rasterisation).
-  const CellIndex beside =
-      std::abs(normal.y()) >= std::abs(normal.x()) ? CellIndex(0, 1) : CellIndex(1, 0);
-  auto static_at = [&](const CellIndex& cell) {
-    return classInBox(box, classes, cell) == CellClass::kStatic;
-  };
-  int structure = 0;  // cells in the current stretch of static cells
-  bool wall = false;
-  forEachCellOnRayWhile(
-      run.centre + run.direction * run.first, run.centre + run.direction * run.last,
-      geometry_.inverseResolution(), [&](const CellIndex& cell) {
-        const bool on = static_at(cell) || static_at(cell + beside) || static_at(cell - beside);
-        structure = on ? structure + 1 : 0;
-        wall = structure * geometry_.resolution() > kMaxStructure;
-        return !wall;
-      });
-  return wall;
-}
-
-bool GlassCompletion::speckLineIsPane(const ReflectanceField& field, const CellBox& box,
-                                      const std::vector<CellClass>& classes,
-                                      std::vector<int>& specks, Run& run) {
-  points_.clear();
-  run.return_bins.clear();
-  for (int s : specks) {
-    for (int i : specks_[s].cells)
-      points_.push_back(geometry_.cellCenter(box.cellAt(i)));
-    run.return_bins.insert(run.return_bins.end(), specks_[s].return_bins.begin(),
-                           specks_[s].return_bins.end());
-  }
-  std::sort(run.return_bins.begin(), run.return_bins.end());
-  run.return_bins.erase(std::unique(run.return_bins.begin(), run.return_bins.end()),
-                        run.return_bins.end());
-  const LineFit line = fitLine(points_);
-  if (line.across > kMaxStrayOffLine * geometry_.resolution()) return false;
-  run.centre = line.centre;
-  run.direction = line.direction;
-  std::sort(specks.begin(), specks.end(), [&](int a, int b) {
-    return (specks_[a].centre - line.centre).dot(line.direction) <
-           (specks_[b].centre - line.centre).dot(line.direction);
-  });
-  run.first = (specks_[specks.front()].centre - line.centre).dot(line.direction);
-  run.last = (specks_[specks.back()].centre - line.centre).dot(line.direction);
-  const Eigen::Vector2d first = run.centre + run.direction * run.first;
-  const Eigen::Vector2d last = run.centre + run.direction * run.last;
-  walked_.clear();
-  // A pane's frames close its line; its unfaced stretches may be as long as any gap.
-  return !liesAlongWall(box, classes, run) && motionStandsOut(box, classes, first, last) &&
-         reachesStructure(field, box, run, last, run.direction, classes, max_gap_, walked_) &&
-         reachesStructure(field, box, run, first, -run.direction, classes, max_gap_, walked_);
-}
-
-void GlassCompletion::completeSpeckLines(const ReflectanceField& field, const CellBox& box,
-                                         std::vector<CellClass>& classes,
-                                         std::vector<int>& completed) {
-  collectSpecks(field, box, classes);
-  // Join each pair of specks that lie on a line across both their returns (union-find), visiting
-  // only pairs within max_gap along x.
-  std::sort(specks_.begin(), specks_.end(),
-            [](const Speck& a, const Speck& b) { return a.centre.x() < b.centre.x(); });
-  std::vector<int> parent(specks_.size());
-  std::iota(parent.begin(), parent.end(), 0);
-  auto root = [&parent](int i) {
-    while (parent[i] != i)
-      i = parent[i] = parent[parent[i]];
-    return i;
-  };
-  const double min_spacing = kMinSpeckSpacing * geometry_.resolution();
-  for (size_t a = 0; a < specks_.size(); ++a) {
-    for (size_t b = a + 1;
-         b < specks_.size() && specks_[b].centre.x() - specks_[a].centre.x() <= max_gap_; ++b) {
-      const Eigen::Vector2d apart = specks_[b].centre - specks_[a].centre;
-      const double distance = apart.norm();
-      if (distance < min_spacing || distance > max_gap_) continue;
-      const Eigen::Vector2d along = apart / distance;
-      if (std::abs(along.dot(specks_[a].facing)) > kMaxSpeckLineAlongReturns ||
-          std::abs(along.dot(specks_[b].facing)) > kMaxSpeckLineAlongReturns ||
-          std::abs(specks_[a].facing.dot(specks_[b].facing)) < kMinSpeckFacingAgreement) {
-        continue;
-      }
-      parent[root(static_cast<int>(a))] = root(static_cast<int>(b));
-    }
-  }
-  std::vector<std::vector<int>> lines(specks_.size());
-  for (size_t i = 0; i < specks_.size(); ++i)
-    lines[root(static_cast<int>(i))].push_back(static_cast<int>(i));
-  auto turn_to_glass = [&](int i) {
-    if (classes[i] == CellClass::kGlass) return;  // listed twice (a diagonal line)
-    turned_from_motion_ += classes[i] == CellClass::kMotion;
-    classes[i] = CellClass::kGlass;
-    completed.push_back(i);
-  };
-  std::vector<int> gap;  // the free and motion cells between two specks
-  for (std::vector<int>& specks : lines) {
-    if (specks.size() < 2) continue;
-    Run run;
-    if (!speckLineIsPane(field, box, classes, specks, run)) continue;
-    for (size_t k = 0; k < specks.size(); ++k) {
-      for (int i : specks_[specks[k]].cells)
-        turn_to_glass(i);
-      if (k + 1 == specks.size()) break;
-      // The stretch to the next speck, unless the robot looked through it near the normal.
-      if (!unfacedStretch(field, box, run, classes, specks_[specks[k]].centre,
-                          specks_[specks[k + 1]].centre, gap)) {
-        continue;
-      }
-      for (int i : gap)
-        turn_to_glass(i);
-    }
-  }
-}
-
-bool GlassCompletion::unfacedStretch(const ReflectanceField& field, const CellBox& box,
-                                     const Run& run, const std::vector<CellClass>& classes,
-                                     const Eigen::Vector2d& from, const Eigen::Vector2d& to,
-                                     std::vector<int>& cells) const {
-  cells.clear();
-  auto on_line = [&run](const Eigen::Vector2d& point) {
-    return run.centre + run.direction * (point - run.centre).dot(run.direction);
-  };
-  bool unfaced = true;
-  forEachCellOnRayWhile(on_line(from), on_line(to), geometry_.inverseResolution(),
-                        [&](const CellIndex& cell) {
-                          unfaced = box.contains(cell);  // beyond the box: not known
-                          if (!unfaced) return false;
-                          const int i = box.indexOf(cell);
-                          const CellClass c = classes[i];
-                          if (c == CellClass::kFree) unfaced = couldBeGlass(field, run, cell);
-                          if (unfaced && (c == CellClass::kFree || c == CellClass::kMotion))
-                            cells.push_back(i);
-                          return unfaced;
-                        });
-  return unfaced;
-}
-
 const std::vector<int>& GlassCompletion::complete(const ReflectanceField& field, const CellBox& box,
                                                   std::vector<CellClass>& classes) {
   std::vector<int>& completed = completed_;
   completed.clear();
   if (max_gap_ <= 0.0) return completed;
-  turned_from_motion_ = 0;
-  // First the panes faced at a few points: their lines become runs of glass, completed below.
-  completeSpeckLines(field, box, classes, completed);
   collectRuns(field, box, classes, CellClass::kGlass, runs_);
   // A pane faced only briefly (a sparse logger, a single pass) anchors on nothing that Alg. 2
   // knows of and falls as motion. Its run lies on the line between structure, seen across it,
   // and the stretches between it and that structure were never looked through near its normal.
+  turned_from_motion_ = 0;
   collectRuns(field, box, classes, CellClass::kMotion, motion_runs_);
   for (const Run& run : motion_runs_) {
     walked_.clear();
     if (!returnsAcrossLine(run) ||
         !reachesStructure(field, box, run, run.centre + run.direction * run.last, run.direction,
-                          classes, kMaxUnfacedEnd, walked_) ||
+                          classes, walked_) ||
         !reachesStructure(field, box, run, run.centre + run.direction * run.first, -run.direction,
-                          classes, kMaxUnfacedEnd, walked_)) {
+                          classes, walked_)) {
       continue;
     }
     walked_.insert(walked_.end(), run.cells.begin(), run.cells.end());

@@ -32,14 +32,6 @@ namespace rfm {
 // meets structure at both ends within `max_gap`, through free stretches of at most 0.5 m (shorter
 // than a doorway) that were never looked through near that normal, is glass, and so are those
 // stretches. A trail left by someone walking away from the robot was seen along its line.
-// A logger that keeps a scan a metre faces a pane at a few points only: each leaves a speck of
-// motion cells, too short for a run, returned within a few degrees of the pane's normal. Two specks
-// or more on one line across both their returns, standing out of the motion beside that line, on
-// a line that meets structure at both ends within `max_gap` through cells never looked through near
-// that normal, are glass, and so are the stretches between them that were not looked through
-// either. People's specks face wherever the robot was; a line of them across their returns is
-// chance, and where people walk there are as many specks beside it. Specks seen through glass
-// (a reflection's phantom wall, the glass's mirror image of a real one) count for nothing.
 class GlassCompletion {
  public:
   // max_gap: m of free cells between two pieces of structure on the line (0: off).
@@ -62,18 +54,6 @@ class GlassCompletion {
     std::vector<int> cells;          // its cells' indices in the box
     bool blurred = false;            // a few of its cells lie more than a cell off its line
   };
-  // A component of motion cells too small for a run, and the mean direction of its returns.
-  struct Speck {
-    Eigen::Vector2d centre = Eigen::Vector2d::Zero();  // m, its cells' centroid
-    Eigen::Vector2d facing =
-        Eigen::Vector2d::Zero();   // unit: mean direction of the rays it returned
-    std::vector<int> cells;        // box indices
-    std::vector<int> return_bins;  // every bin one of its cells reflects in
-  };
-  // Calls visit(members) for each 8-connected component of `of_class` cells of the box.
-  template <typename Visit>
-  void forEachComponent(const CellBox& box, const std::vector<CellClass>& classes,
-                        CellClass of_class, Visit&& visit);
   // The straight runs of `of_class` cells (glass, or motion that may be glass).
   void collectRuns(const ReflectanceField& field, const CellBox& box,
                    const std::vector<CellClass>& classes, CellClass of_class,
@@ -84,44 +64,14 @@ class GlassCompletion {
                    const std::vector<int>& members, Run& run);
   // Whether `cell` was not looked through in half of the run's return bins.
   static bool couldBeGlass(const ReflectanceField& field, const Run& run, const CellIndex& cell);
-  // The motion components of the box too small for a run that reflect in some bin.
-  void collectSpecks(const ReflectanceField& field, const CellBox& box,
-                     const std::vector<CellClass>& classes);
-  // Whether the first glass, metal or static cell back along the speck's returns is glass or
-  // metal: it was seen through a pane or in a mirror (a reflection's phantom, evidence that
-  // Alg. 3 discards), and says nothing of a pane where it lies.
-  bool seenThroughPane(const CellBox& box, const std::vector<CellClass>& classes,
-                       const Speck& speck) const;
-  // Turns to glass the specks that line up as a pane faced at a few points (class comment).
-  void completeSpeckLines(const ReflectanceField& field, const CellBox& box,
-                          std::vector<CellClass>& classes, std::vector<int>& completed);
-  // Whether `specks` (indices into specks_, then sorted along their line) make a pane faced at a
-  // few points; `run` gets its line, extent and return bins.
-  bool speckLineIsPane(const ReflectanceField& field, const CellBox& box,
-                       const std::vector<CellClass>& classes, std::vector<int>& specks, Run& run);
-  // Whether no free cell on the run's line between the points `from` and `to` (projected on it)
-  // was looked through near its normal (couldBeGlass); `cells` gets the free and motion cells.
-  bool unfacedStretch(const ReflectanceField& field, const CellBox& box, const Run& run,
-                      const std::vector<CellClass>& classes, const Eigen::Vector2d& from,
-                      const Eigen::Vector2d& to, std::vector<int>& cells) const;
-  // Whether the run's line, between its first and last point, holds a stretch of static cells
-  // (within a cell of it) longer than a frame (kMaxStructure): specks on it are the bits of a
-  // wall that nothing anchored, not a pane.
-  bool liesAlongWall(const CellBox& box, const std::vector<CellClass>& classes,
-                     const Run& run) const;
-  // Whether the cells within a cell of the segment [from, to] hold at least kMinSpeckContrast
-  // times the share of motion cells of those kBesideFrom to kBesideTo cells beside it.
-  bool motionStandsOut(const CellBox& box, const std::vector<CellClass>& classes,
-                       const Eigen::Vector2d& from, const Eigen::Vector2d& to) const;
   // Whether the run's return bins lie near its normal, as glass returns.
   bool returnsAcrossLine(const Run& run) const;
   // Whether the line, walked from `from` along `outward` through motion cells and free cells that
-  // could be glass (no stretch of them longer than `max_unfaced`, m), meets structure (static,
+  // could be glass (no stretch of them longer than kMaxUnfacedEnd), meets structure (static,
   // glass, metal) within max_gap; the cells walked before it are appended to `walked`.
   bool reachesStructure(const ReflectanceField& field, const CellBox& box, const Run& run,
                         const Eigen::Vector2d& from, const Eigen::Vector2d& outward,
-                        const std::vector<CellClass>& classes, double max_unfaced,
-                        std::vector<int>& walked) const;
+                        const std::vector<CellClass>& classes, std::vector<int>& walked) const;
   // Whether the free cells of `gap` (box indices; `beside` steps across the line) returned as an
   // unfaced pane does now and then (kMinEchoShare), more often than the cells beside the line
   // (kMinEchoContrast), not as an opening.
@@ -136,7 +86,6 @@ class GlassCompletion {
   double max_gap_;
   std::vector<Run> runs_;
   std::vector<Run> motion_runs_;
-  std::vector<Speck> specks_;
   std::vector<int> walked_;  // complete(): a motion run's cells and those between it and structure
   size_t turned_from_motion_ = 0;
   std::vector<uint8_t> visited_;  // per box cell, while collecting runs (zero in between)
