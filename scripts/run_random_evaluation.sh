@@ -162,14 +162,17 @@ rosrun reflectance_field_map rfm_eval --report "$MANIFEST" --out "$REPORT" --pre
   echo
   python3 "$REPO/scripts/kept_motion.py" "$OUT" RFM plain_grid RFM_live
   echo
-  echo "## Glass missed: was it ever seen"
+  echo "## Glass missed: was it ever faced"
   echo
   echo "\`scripts/unseen_glass.py\` sorts the true glass cells that the class metrics count (glass"
-  echo "alone in the cell, something other than unknown drawn within a cell) by the direct glass"
-  echo "echoes (the truth's GLASS beams, placed with the true poses) that ended within a cell of them,"
-  echo "and gives the RFM's glass recall for each kind. A pane returns near its normal, and when"
-  echo "dirty a faint scatter from anywhere: glass the robot never faced is crossed by the rays"
-  echo "without an echo, and no map can draw it from them."
+  echo "alone in the cell, something other than unknown drawn within a cell) by the face-on echoes"
+  echo "that ended within a cell of them: the truth's GLASS beams, placed with the true poses, whose"
+  echo "incidence on the pane is within the scene's return cone and whose range is within the RFM's"
+  echo "evidence range (the active region's radius, 10 m as in the paper). It gives the RFM's glass"
+  echo "recall for each kind. A pane returns near its normal; dirty, a faint scatter from anywhere,"
+  echo "and with nothing behind it a weak echo of its own. Those faint echoes fall in direction bins"
+  echo "that the rays cross far more often without one, and echoes from beyond 10 m add no evidence:"
+  echo "glass the robot never faced within range reads as free space to a map of ray directions."
   echo
   python3 "$REPO/scripts/unseen_glass.py" "$OUT" RFM
   echo
