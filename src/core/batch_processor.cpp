@@ -132,9 +132,10 @@ BatchResult processPlainGrid(const std::vector<TimedScan>& scans, MapperOptions 
       scanToRays(scans[i].scan, scans[i].sensor_pose, options.insertion, rays);
       for (const Ray& ray : rays) {
         if (!ray.hit) continue;
-        labels[ray.beam] =
-            labelEndpoint(ray, geometry, options.active_region.active_region_radius,
-                          /*final_map=*/true, class_of, [](const CellIndex&) { return false; });
+        labels[ray.beam] = labelEndpoint(
+            ray, geometry, options.active_region.active_region_radius,
+            /*final_map=*/true, class_of, [](const CellIndex&) { return false; },
+            [](const CellIndex&) { return true; });  // no directions: free is free
       }
     }
     if (progress) progress(scans.size() + i + 1, 2 * scans.size());
