@@ -132,10 +132,9 @@ BatchResult processPlainGrid(const std::vector<TimedScan>& scans, MapperOptions 
       scanToRays(scans[i].scan, scans[i].sensor_pose, options.insertion, rays);
       for (const Ray& ray : rays) {
         if (!ray.hit) continue;
-        labels[ray.beam] = labelEndpoint(
-            ray, geometry, options.active_region.active_region_radius,
-            /*final_map=*/true, class_of, [](const CellIndex&) { return false; },
-            [](const CellIndex&) { return true; });  // no directions: free is free
+        labels[ray.beam] =
+            labelEndpoint(ray, geometry, options.active_region.active_region_radius,
+                          /*final_map=*/true, class_of, [](const CellIndex&) { return false; });
       }
     }
     if (progress) progress(scans.size() + i + 1, 2 * scans.size());

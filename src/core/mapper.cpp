@@ -355,7 +355,7 @@ std::vector<RayLabel> Mapper::labelValidScan(const TimedScan& scan, bool final_m
   return labelRays(rays, scan.scan.ranges.size(), impl_->reflections, impl_->classes,
                    field_.activeBox(), field_.geometry(),
                    options_.active_region.active_region_radius, final_map, checked, inserted,
-                   inserted ? &impl_->arrivals : nullptr, final_map ? &field_ : nullptr);
+                   inserted ? &impl_->arrivals : nullptr);
 }
 
 std::vector<RayLabel> Mapper::labelAddedScan(const TimedScan& scan,

@@ -30,11 +30,6 @@ bool arrivedInFirmlyFreeCell(const ReflectanceField& field, const Ray& beam,
   return beamBinAtMost(field, beam, cell, log_odds.minValue() + log_odds.hitStep());
 }
 
-bool seenThroughInBeamDirection(const ReflectanceField& field, const Ray& beam,
-                                const CellIndex& cell) {
-  return beamBinAtMost(field, beam, cell, -1);
-}
-
 bool passesThroughCell(const Ray& ray, const CellIndex& cell, const GridGeometry& geometry) {
   const Eigen::Vector2d path = ray.end - ray.origin;
   const double length = path.norm();
@@ -52,8 +47,7 @@ std::vector<RayLabel> labelRays(const std::vector<Ray>& rays, size_t beams,
                                 const CellBox& window_box, const GridGeometry& geometry,
                                 double evidence_range, bool final_map,
                                 const std::vector<uint8_t>* checked_beams,
-                                const ReflectanceField* inserted, ArrivalMarks* arrivals,
-                                const ReflectanceField* evidence) {
+                                const ReflectanceField* inserted, ArrivalMarks* arrivals) {
   std::vector<RayLabel> labels(beams, RayLabel::kNoReturn);
   // The reflection check of every hit ray first, side by side (passThroughDistances).
   std::vector<Ray> checked;
@@ -88,9 +82,6 @@ std::vector<RayLabel> labelRays(const std::vector<Ray>& rays, size_t beams,
     if (arrivals && arrivedInFirmlyFreeCell(*inserted, rays[index], cell)) arrivals->mark(cell);
     return true;
   };
-  auto seen_through = [&](const CellIndex& cell) {
-    return !evidence || seenThroughInBeamDirection(*evidence, rays[index], cell);
-  };
   size_t next_checked = 0;
   for (; index < rays.size(); ++index) {
     const Ray& ray = rays[index];
@@ -100,8 +91,7 @@ std::vector<RayLabel> labelRays(const std::vector<Ray>& rays, size_t beams,
       labels[ray.beam] = RayLabel::kReflection;
       continue;
     }
-    labels[ray.beam] =
-        labelEndpoint(ray, geometry, evidence_range, final_map, class_of, arrived, seen_through);
+    labels[ray.beam] = labelEndpoint(ray, geometry, evidence_range, final_map, class_of, arrived);
   }
   return labels;
 }

@@ -20,7 +20,6 @@ namespace {
 using testing::driveBy;
 using testing::roomWithPane;
 using testing::runScenario;
-using testing::ScenarioStep;
 using testing::SyntheticWorld;
 
 TEST(Mapper, MalformedScansAreRejectedAndChangeNothing) {
@@ -556,75 +555,6 @@ TEST(Mapper, LiveLabelsKeepAReturnTheBeamsBesideItGoPast) {
   }
   ASSERT_GE(pole, 1);
   EXPECT_EQ(pole_kept, pole);
-}
-
-// A window holding the whole scene, as a batch holds a recording: the rays still add evidence
-// only within the 10 m active-region radius of their sensor.
-MapperLayout wholeSceneWindow() {
-  MapperLayout layout;
-  layout.window_radius = 20.0;
-  return layout;
-}
-
-// The final map's labels of the returns of `scans` that end within `radius` of `spot`: how many,
-// and how many of them are motion.
-struct SpotLabels {
-  int returns = 0, motion = 0;
-};
-SpotLabels finalLabelsAt(const Mapper& mapper, const std::vector<TimedScan>& scans,
-                         const Eigen::Vector2d& spot, double radius) {
-  SpotLabels at;
-  for (const TimedScan& scan : scans) {
-    const std::vector<RayLabel> labels = mapper.labelScan(scan, /*final_map=*/true);
-    for (size_t i = 0; i < labels.size(); ++i) {
-      const double range = scan.scan.ranges[i];
-      if (!std::isfinite(range)) continue;
-      const double angle = scan.sensor_pose.yaw + scan.scan.angle_min +
-                           static_cast<double>(i) * scan.scan.angle_increment;
-      const Eigen::Vector2d end =
-          scan.sensor_pose.position + range * Eigen::Vector2d(std::cos(angle), std::sin(angle));
-      if ((end - spot).norm() > radius) continue;
-      ++at.returns;
-      at.motion += labels[i] == RayLabel::kMotion;
-    }
-  }
-  return at;
-}
-
-// A pane 12 m ahead returns near its normal from beyond the 10 m evidence range, so its echoes
-// add nothing; from nearer the robot saw only through it, obliquely. Its cells read free, but
-// nothing ever crossed them in the echoes' direction: the final labels keep the echoes.
-TEST(Mapper, FinalLabelsKeepReturnsFromBeyondTheEvidenceRangeWhereNothingCrossedInTheirDirection) {
-  SyntheticWorld world;
-  world.addFramedPane({-3.0, 12.0}, {3.0, 12.0});
-  world.addWall({-20.0, 16.0}, {20.0, 16.0});  // returns, so that the rays clear up to 10 m
-  Mapper mapper(testing::scenarioOptions(), wholeSceneWindow());
-  std::vector<ScenarioStep> steps = driveBy({6.0, 6.0}, {12.0, 6.0}, kPi / 2);  // oblique views
-  const ScenarioStep facing_the_pane{Pose2D{Eigen::Vector2d(0.0, 0.0), kPi / 2}, {}};
-  steps.insert(steps.end(), 80, facing_the_pane);
-  const std::vector<TimedScan> scans = runScenario(mapper, world, steps);
-  const GridGeometry& g = mapper.field().geometry();
-  ASSERT_EQ(mapper.cellClass(g.cellOf({0.0, 12.02})), CellClass::kFree);
-  const SpotLabels pane = finalLabelsAt(mapper, scans, {0.0, 12.0}, 1.0);
-  ASSERT_GT(pane.returns, 100);
-  EXPECT_EQ(pane.motion, 0);
-}
-
-// The control: someone who stands 12 m ahead, on floor the robot saw through in that very
-// direction from nearer before they came, is motion.
-TEST(Mapper, FinalLabelsRemoveReturnsFromBeyondTheEvidenceRangeWhereRaysCrossedInTheirDirection) {
-  SyntheticWorld world;
-  world.addWall({-10.0, 16.0}, {10.0, 16.0});
-  Mapper mapper(testing::scenarioOptions(), wholeSceneWindow());
-  const ScenarioStep nearer{Pose2D{Eigen::Vector2d(0.0, 5.0), kPi / 2}, {}};
-  const ScenarioStep back_with_someone_ahead{Pose2D{Eigen::Vector2d(0.0, 0.0), kPi / 2},
-                                             {testing::Disc{{0.0, 12.0}, 0.25}}};
-  std::vector<ScenarioStep> steps(80, nearer);
-  steps.insert(steps.end(), 80, back_with_someone_ahead);
-  const std::vector<TimedScan> scans = runScenario(mapper, world, steps);
-  const SpotLabels person = finalLabelsAt(mapper, scans, {0.0, 12.0}, 0.3);
-  ASSERT_GT(person.returns, 100);
-  EXPECT_EQ(person.motion, person.returns);
 }
 
 }  // namespace

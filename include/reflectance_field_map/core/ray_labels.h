@@ -18,16 +18,14 @@ namespace rfm {
 // How a beam's endpoint is judged against a map (paper Sec. VI-A): kept when the end cell, or one
 // of its 8 neighbours (discretisation), is an obstacle; otherwise its evidence did not survive:
 // motion (a transient object, or erased evidence when `final_map`). A beam longer than the
-// evidence range (active_region_radius) added nothing at its end: against the final map it is
-// motion only where `seen_through(end_cell)` says rays crossed that cell in its own direction; an
-// end cell no ray observed, or one seen free only from other directions (as a pane is), leaves it
-// unjudged (kept), as live. Live, a return in a cell the last classification left free, with
-// nothing but free or unknown cells beside it, is motion when `arrived(end_cell)` says something
-// arrived there (arrivedInFreeCell), else kept until motion removal judges it.
-template <typename ClassOf, typename Arrived, typename SeenThrough>
+// evidence range (active_region_radius) added nothing at its end: an end cell that no ray
+// observed leaves it unjudged (kept), against the final map too, as live. Live, a return in a cell
+// the last classification left free, with nothing but free or unknown cells beside it, is motion
+// when `arrived(end_cell)` says something arrived there (arrivedInFreeCell), else kept until
+// motion removal judges it.
+template <typename ClassOf, typename Arrived>
 RayLabel labelEndpoint(const Ray& beam, const GridGeometry& geometry, double evidence_range,
-                       bool final_map, ClassOf&& class_of, Arrived&& arrived,
-                       SeenThrough&& seen_through) {
+                       bool final_map, ClassOf&& class_of, Arrived&& arrived) {
   // An end past every cell a map can hold (a return claimed from 1e19 m) lies in no map:
   // unjudged.
   const double limit = GlobalMap2D::kMaxCellCoordinate;
@@ -50,11 +48,8 @@ RayLabel labelEndpoint(const Ray& beam, const GridGeometry& geometry, double evi
   if (!final_map) {
     return c == CellClass::kFree && arrived(end_cell) ? RayLabel::kMotion : RayLabel::kKept;
   }
-  if ((beam.end - beam.origin).norm() <= evidence_range) return RayLabel::kMotion;
-  // Past the evidence range the return's own direction added nothing to its cell: free space
-  // seen there from other directions is what a pane looks like. Seen through in its own
-  // direction, the cell held nothing there; else unjudged: kept for safety.
-  return c != CellClass::kUnknown && seen_through(end_cell) ? RayLabel::kMotion : RayLabel::kKept;
+  const bool judged = c != CellClass::kUnknown || (beam.end - beam.origin).norm() <= evidence_range;
+  return judged ? RayLabel::kMotion : RayLabel::kKept;  // unjudged: kept for safety
 }
 
 // Whether a just-inserted return `beam` in `cell` is an arrival: the field had seen the cell free
@@ -67,11 +62,6 @@ bool arrivedInFreeCell(const ReflectanceField& field, const Ray& beam, const Cel
 // direction (five misses and more at the defaults), not glimpsed free between returns, as the
 // cells of a pane at the edge of its return cone are while the cone moves along it.
 bool arrivedInFirmlyFreeCell(const ReflectanceField& field, const Ray& beam, const CellIndex& cell);
-
-// Whether the field saw through `cell` in the direction of `beam`: its bin there, in the active
-// region, is below the prior (the misses outweigh the hits).
-bool seenThroughInBeamDirection(const ReflectanceField& field, const Ray& beam,
-                                const CellIndex& cell);
 
 // Whether `ray` goes on through `cell`: its line passes within half a cell's diagonal of the
 // cell's centre, ahead of its origin and short of its last cell.
@@ -86,16 +76,13 @@ bool passesThroughCell(const Ray& ray, const CellIndex& cell, const GridGeometry
 // arrivedInFreeCell and neither neighbouring beam of the scan passesThroughCell. With `arrivals`
 // (may be null) such an arrival is marked there when arrivedInFirmlyFreeCell, and a return in a
 // free cell at or beside a marked one is an arrival too: the same object, whose earlier hits
-// filled the bin. `evidence` (final map: the field it was classified from; null: none) judges
-// returns beyond the evidence range (seenThroughInBeamDirection); without it a free cell judges
-// them motion.
+// filled the bin.
 std::vector<RayLabel> labelRays(const std::vector<Ray>& rays, size_t beams,
                                 const ReflectionRemover& reflections, const ActiveClasses& classes,
                                 const CellBox& window_box, const GridGeometry& geometry,
                                 double evidence_range, bool final_map,
                                 const std::vector<uint8_t>* checked_beams = nullptr,
                                 const ReflectanceField* inserted = nullptr,
-                                ArrivalMarks* arrivals = nullptr,
-                                const ReflectanceField* evidence = nullptr);
+                                ArrivalMarks* arrivals = nullptr);
 
 }  // namespace rfm
