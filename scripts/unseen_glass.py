@@ -40,7 +40,7 @@ GLASS_ECHO = 2  # RayTruth.GLASS
 GLASS_BIT = 2  # rfm::sim::kGlassBit
 UNKNOWN, FREE, STATIC, GLASS, METAL, MOTION = range(6)  # classes.pgm codes
 BUCKETS = ["none", "1-9", "10 or more"]
-CONE_MARGIN_DEG = 0.5  # an echo's endpoint carries range noise; the cone is exact
+CONE_MARGIN_DEG = 0.5  # rounding only: a return in the cone has its in-plane incidence within it
 NEAR_PANE_M = 0.15  # an echo further than this from every pane belongs to none
 MISSED = ["static", "metal", "motion", "free"]  # what a seen pane not drawn glass is drawn
 
