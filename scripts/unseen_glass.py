@@ -144,9 +144,13 @@ def count_run(directory, mapper, evidence_range):
     origin, resolution = read_map_geometry(map_dir)
     with open(os.path.join(directory, "scene.yaml")) as scene_file:
         scene = yaml.safe_load(scene_file)
-    cone_deg = float(scene.get("physics", {}).get("return_cone_deg", 0.0))
-    every, face_on = glass_echoes(os.path.join(directory, "sim.bag"), glass_panes(scene), cone_deg,
-                                  evidence_range, classes.shape, origin, resolution)
+    cone_deg = scene.get("physics", {}).get("return_cone_deg")
+    if cone_deg is None:  # the ideal beam model of the shipped scenes has no cone to face
+        raise SystemExit("%s/scene.yaml: no physics.return_cone_deg (a procedural scene's)"
+                         % directory)
+    every, face_on = glass_echoes(os.path.join(directory, "sim.bag"), glass_panes(scene),
+                                  float(cone_deg), evidence_range, classes.shape, origin,
+                                  resolution)
     every, face_on = sum_within_one(every), sum_within_one(face_on)
     counted = (truth == GLASS_BIT) & within_one(classes != UNKNOWN)
     drawn = within_one(classes == GLASS)
