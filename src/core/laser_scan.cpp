@@ -23,6 +23,7 @@ std::string LaserScan2D::validate() const {
     return why("range limits [", range_min, ", ", range_max, "] are not 0 <= min < max");
   }
   if (ranges.empty()) return why("no ranges");
+  if (!sweep_shift.allFinite()) return why("non-finite sweep shift");
   // Drivers differ on whether angle_max is the last beam or one step past it.
   const double span_beams = (static_cast<double>(angle_max) - angle_min) / angle_increment;
   const double expected = span_beams + 1.0;
@@ -49,6 +50,7 @@ void reverseBeamOrder(LaserScan2D& scan) {
   scan.angle_increment = -scan.angle_increment;
   scan.angle_max = scan.angle_min - span;
   std::reverse(scan.ranges.begin(), scan.ranges.end());
+  scan.sweep_shift = -scan.sweep_shift;  // from the first listed beam to the last
 }
 
 bool compensateSweepMotion(LaserScan2D& scan, Pose2D& sensor_pose, const Pose2D& sweep_end_pose,
@@ -64,7 +66,9 @@ bool compensateSweepMotion(LaserScan2D& scan, Pose2D& sensor_pose, const Pose2D&
   scan.angle_increment = static_cast<float>(increment);
   scan.angle_max = static_cast<float>(scan.angle_min + span_beams * increment);
   if (beam0_last) sensor_pose.yaw += turn;  // beam 0 was measured at the sweep's end
-  sensor_pose.position = 0.5 * (sensor_pose.position + sweep_end_pose.position);
+  const Eigen::Vector2d travel = sweep_end_pose.position - sensor_pose.position;
+  sensor_pose.position += 0.5 * travel;
+  scan.sweep_shift = beam0_last ? -travel : travel;
   return true;
 }
 
@@ -80,6 +84,7 @@ void mirrorScan(LaserScan2D& scan) {
   scan.angle_min = -lastBeamAngle(scan);
   scan.angle_max = scan.angle_min + span;
   std::reverse(scan.ranges.begin(), scan.ranges.end());
+  scan.sweep_shift = -scan.sweep_shift;
 }
 
 void scanToRays(const LaserScan2D& scan, const Pose2D& sensor_pose, const InsertionOptions& options,
@@ -90,10 +95,12 @@ void scanToRays(const LaserScan2D& scan, const Pose2D& sensor_pose, const Insert
 }
 
 void beamsTowardsBox(const CellBox& box, double resolution, const Eigen::Vector2d& origin,
-                     double first_beam_angle, double increment, std::vector<BeamRange>& ranges) {
+                     double first_beam_angle, double increment, double end_spread,
+                     std::vector<BeamRange>& ranges) {
   ranges.clear();
-  const Eigen::Vector2d low = box.min.cast<double>() * resolution;
-  const Eigen::Vector2d high = box.max.cast<double>() * resolution;
+  const Eigen::Vector2d spread = Eigen::Vector2d::Constant(std::max(end_spread, 0.0));
+  const Eigen::Vector2d low = box.min.cast<double>() * resolution - spread;
+  const Eigen::Vector2d high = box.max.cast<double>() * resolution + spread;
   const Eigen::Vector2d margin = Eigen::Vector2d::Constant(resolution);
   if ((origin.array() >= (low - margin).array()).all() &&
       (origin.array() <= (high + margin).array()).all()) {

@@ -247,9 +247,9 @@ bool Mapper::tickDue(double stamp) const {
 
 void Mapper::keepInsertedRays(const TimedScan& scan, const std::vector<Ray>& rays) {
   impl_->stats.rays_inserted += rays.size();
-  impl_->reflections.keep(rays, scan.sensor_pose.position,
-                          scan.sensor_pose.yaw + scan.scan.angle_min,
-                          static_cast<double>(scan.scan.angle_increment));
+  impl_->reflections.keep(
+      rays, scan.sensor_pose.position, scan.sensor_pose.yaw + scan.scan.angle_min,
+      static_cast<double>(scan.scan.angle_increment), 0.5 * scan.scan.sweep_shift.norm());
 }
 
 void Mapper::finishScan(const TimedScan& scan, const std::vector<Ray>& rays,

@@ -256,9 +256,9 @@ void ReflectionRemover::freeze() {
 }
 
 void ReflectionRemover::keep(const std::vector<Ray>& rays, const Eigen::Vector2d& origin,
-                             double first_beam_angle, double increment) {
+                             double first_beam_angle, double increment, double end_spread) {
   if (buffer_size_ == 0) return;
-  buffer_.push_back({rays, origin, first_beam_angle, increment});
+  buffer_.push_back({rays, origin, first_beam_angle, increment, end_spread});
   // A pending revert holds its scans, the oldest last (revertSome).
   while (buffer_.size() > buffer_size_ && revert_pending_ == 0)
     buffer_.pop_front();
@@ -291,7 +291,7 @@ size_t ReflectionRemover::revertScan(KeptScan& kept, ScanInserter& inserter,
   size_t checked = 0;
   // Rays are in beam order: only those heading towards the new glass are looked at.
   beamsTowardsBox(revert_box_, resolution, kept.origin, kept.first_beam_angle, kept.increment,
-                  s.beam_ranges);
+                  kept.end_spread, s.beam_ranges);
   for (const BeamRange& range : s.beam_ranges) {
     auto it = std::lower_bound(kept.rays.begin(), kept.rays.end(), range.first, by_beam);
     for (; it != kept.rays.end() && it->beam <= range.last; ++it) {

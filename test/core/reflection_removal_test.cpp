@@ -333,7 +333,7 @@ TEST(ReflectionRemoval, RevertBehindNewGlassLeavesWhatTheScanCutAtItWouldHave) {
 
   const FanScan scan = fanTowardsPanes();
   inserter.insert(scan.rays, field);
-  remover.keep(scan.rays, scan.origin, scan.first_angle, scan.increment);
+  remover.keep(scan.rays, scan.origin, scan.first_angle, scan.increment, 0.0);
   const CellBox new_glass = classifyPanes(field, classes);
   ASSERT_FALSE(new_glass.empty());
   revertWhole(remover, new_glass, inserter, field);
@@ -374,9 +374,9 @@ TEST(ReflectionRemoval, ARevertInPartsTakesBackWhatTheWholeRevertDoes) {
   const FanScan scan = fanTowardsPanes();
   for (int i = 0; i < 2; ++i) {
     inserter.insert(scan.rays, whole_field);
-    whole.keep(scan.rays, scan.origin, scan.first_angle, scan.increment);
+    whole.keep(scan.rays, scan.origin, scan.first_angle, scan.increment, 0.0);
     inserter.insert(scan.rays, parts_field);
-    parts.keep(scan.rays, scan.origin, scan.first_angle, scan.increment);
+    parts.keep(scan.rays, scan.origin, scan.first_angle, scan.increment, 0.0);
   }
   const CellBox new_glass = classifyPanes(whole_field, whole_classes);
   const CellBox parts_glass = classifyPanes(parts_field, parts_classes);
@@ -397,9 +397,9 @@ TEST(ReflectionRemoval, ARevertInPartsTakesBackWhatTheWholeRevertDoes) {
   parts.startRevert(parts_glass);
   for (int i = 0; i < 2; ++i) {
     inserter.insert(behind.rays, whole_field);
-    whole.keep(behind.rays, behind.origin, behind.first_angle, behind.increment);
+    whole.keep(behind.rays, behind.origin, behind.first_angle, behind.increment, 0.0);
     inserter.insert(behind.rays, parts_field);
-    parts.keep(behind.rays, behind.origin, behind.first_angle, behind.increment);
+    parts.keep(behind.rays, behind.origin, behind.first_angle, behind.increment, 0.0);
   }
   EXPECT_NE(differingBins(whole_field, parts_field), 0u);
   for (int part = 0; part < 2; ++part) {  // a budget of one ray: one scan a part

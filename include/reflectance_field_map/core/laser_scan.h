@@ -22,6 +22,11 @@ struct LaserScan2D {
   float range_min = 0.0f;        // m
   float range_max = 0.0f;        // m
   std::vector<float> ranges;     // REP-117: +inf no return, -inf too close, NaN invalid
+  // How far the sensor moved while it swept, in the fixed frame (m): from where the first listed
+  // beam was measured to where the last one was; zero for a scan taken from one place. The rays
+  // share an origin in the middle of that path, so return k is moved by (k / (beams - 1) - 1/2)
+  // of it from where its range ends along its beam (compensateSweepMotion).
+  Eigen::Vector2d sweep_shift = Eigen::Vector2d::Zero();
 
   // Empty when usable, otherwise why not (malformed geometry).
   std::string validate() const;
@@ -41,7 +46,8 @@ void mirrorScan(LaserScan2D& scan);
 // 50 deg/s draws a wall 10 m away up to 0.9 m off). Given the sensor's poses when the sweep began
 // (`sensor_pose`, on entry) and ended, the beams' directions are turned as the sensor turned,
 // evenly over the sweep (the increment changes, the beams stay evenly spaced so that rays still
-// share one origin), and the origin moves to the middle of the sweep's path. `beam0_last`: the
+// share one origin), the origin moves to the middle of the sweep's path, and `sweep_shift` takes
+// the path, so that each return lands where its beam was measured from. `beam0_last`: the
 // beams are in the reverse of their measured order (a reversed or upside-down scan). Returns
 // false, changing nothing, when the scan cannot be turned so (fewer than two beams, or a sensor
 // turning against its sweep faster than it sweeps).
@@ -95,6 +101,9 @@ void forEachBeamRay(const LaserScan2D& scan, const Pose2D& sensor_pose,
   constexpr size_t kExactEvery = 32;
   const Eigen::Vector2d step(std::cos(increment), std::sin(increment));
   Eigen::Vector2d direction;
+  // A swept scan's returns move with the sensor along the sweep (LaserScan2D::sweep_shift).
+  const bool swept = !scan.sweep_shift.isZero(0.0) && scan.ranges.size() > 1;
+  const double per_beam = swept ? 1.0 / static_cast<double>(scan.ranges.size() - 1) : 0.0;
   for (size_t beam = 0; beam < scan.ranges.size(); ++beam) {
     const double angle = first_angle + beam * increment;
     if (beam % kExactEvery == 0) {
@@ -112,6 +121,7 @@ void forEachBeamRay(const LaserScan2D& scan, const Pose2D& sensor_pose,
     ray.angle = angle;
     ray.origin = sensor_pose.position;
     ray.end = ray.origin + length * direction;
+    if (hit && swept) ray.end += (static_cast<double>(beam) * per_beam - 0.5) * scan.sweep_shift;
     ray.beam = static_cast<uint32_t>(beam);
     ray.hit = hit;
     visit(ray);
@@ -127,12 +137,14 @@ struct BeamRange {
   uint32_t first, last;
 };
 // The beams of a scan taken from `origin` (beam k heading first_beam_angle + k * increment,
-// increment > 0) whose rays may cross `box`: those within the box's angular extent seen from
-// there, with a margin of two beams: ascending and disjoint (the extent may straddle beam 0's
-// direction, and a scan may span over a turn), or one range holding every beam when the origin
-// lies within a cell of the box. Written to `ranges` (cleared first); indices past the scan's
-// last beam simply match nothing.
+// increment > 0) whose rays may cross `box`: those within the angular extent, seen from there,
+// of the box grown by `end_spread` (m: how far a ray may stray from its beam's line, as a swept
+// scan's returns do), with a margin of two beams: ascending and disjoint (the extent may straddle
+// beam 0's direction, and a scan may span over a turn), or one range holding every beam when the
+// origin lies within a cell of that box. Written to `ranges` (cleared first); indices past the
+// scan's last beam simply match nothing.
 void beamsTowardsBox(const CellBox& box, double resolution, const Eigen::Vector2d& origin,
-                     double first_beam_angle, double increment, std::vector<BeamRange>& ranges);
+                     double first_beam_angle, double increment, double end_spread,
+                     std::vector<BeamRange>& ranges);
 
 }  // namespace rfm

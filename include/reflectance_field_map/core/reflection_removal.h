@@ -56,9 +56,10 @@ class ReflectionRemover {
 
   // Online re-processing. Keeps a scan's rays as inserted (inside the window, cut at the glass
   // known then) from `origin`, beam 0 heading `first_beam_angle` (world, rad) and the next ones
-  // `increment` apart; the latest scan_buffer_size scans are kept.
+  // `increment` apart, their ends up to `end_spread` (m) off their beams' lines (a swept scan,
+  // LaserScan2D::sweep_shift); the latest scan_buffer_size scans are kept.
   void keep(const std::vector<Ray>& rays, const Eigen::Vector2d& origin, double first_beam_angle,
-            double increment);
+            double increment, double end_spread);
   // Forgets the kept scans and any revert pending on them (the window moved, or the evidence
   // restarts).
   void forgetScans() {
@@ -87,6 +88,7 @@ class ReflectionRemover {
     Eigen::Vector2d origin;   // of every ray (the sensor, inside the window)
     double first_beam_angle;  // world direction of beam 0, rad
     double increment;         // rad between beams
+    double end_spread;        // m a ray's end may lie off its beam's line (a swept scan)
   };
 
   // The check of one ray from `from` m along it on, leaping where the clearance allows by
