@@ -247,7 +247,8 @@ bool MapperRos::transformReady(const sensor_msgs::LaserScan& msg, std::string& e
   const std::string frame = tf2FrameId(msg.header.frame_id);
   const ros::Time stamp = msg.header.stamp;
   const ros::Time settled = stamp + ros::Duration(params_.tf_tolerance);
-  // The sensor's pose when its sweep ended turns the beams (rfm::compensateSweepMotion).
+  // The sensor's pose when its sweep ended turns the beams and moves the returns
+  // (rfm::compensateSweepMotion).
   const ros::Time sweep_end = sweepEnd(msg);
   return tf_buffer_->canTransform(params_.fixed_frame, frame, settled, &error) &&
          (sweep_end <= settled ||

@@ -58,9 +58,10 @@ std::vector<rfm::RayLabel> toMessageOrder(std::vector<rfm::RayLabel> labels, boo
 ros::Time sweepEnd(const sensor_msgs::LaserScan& msg);
 
 // Turns the beams of `scan` (placed at `scan.sensor_pose`, the pose of `frame` at the scan's
-// stamp) as the sensor turned during its sweep (rfm::compensateSweepMotion), from TF's pose of
-// `frame` at `sweep_end`. `beam0_last`: the beams are in the reverse of their measured order.
-// False, changing nothing, when `sweep_end` is `stamp` or TF has no pose for it.
+// stamp) as the sensor turned during its sweep and moves its returns as the sensor moved
+// (rfm::compensateSweepMotion), from TF's pose of `frame` at `sweep_end`. `beam0_last`: the beams
+// are in the reverse of their measured order. False, changing nothing, when `sweep_end` is `stamp`
+// or TF has no pose for it.
 bool compensateSweepFromTf(const tf2::BufferCore& tf, const std::string& fixed_frame,
                            const std::string& frame, const ros::Time& stamp,
                            const ros::Time& sweep_end, bool beam0_last, rfm::TimedScan& scan);
