@@ -97,6 +97,66 @@ TEST(FirstPassThroughDistance, StopsWhereTheRayCrossesGlassOrAStaticSurface) {
   EXPECT_LT(firstPassThroughDistance(ray, g, 0.15, pane_ending_here, never), 0.0);
 }
 
+TEST(FirstPassThroughDistance, AReturnOnStructurePassesTheEndOfAnother) {
+  const GridGeometry g(0.05, 180);
+  auto never = [](const CellIndex&, int) { return false; };
+  // The outer corner of two walls meeting at (20, 20): its obstacle neighbours lie on one side.
+  // A ray heading down-right past it crosses its cell near the centre, between the two walls'
+  // cells, as a ray past a jamb or a pillar's flank crosses the cell beside the structure in it.
+  const CellIndex corner(20, 20);
+  const CellIndex far_wall(32, 8);
+  bool far_wall_static = true;
+  auto class_of = [&](const CellIndex& c) {
+    if (c == far_wall) return far_wall_static ? CellClass::kStatic : CellClass::kFree;
+    const bool in_walls = (c.y() == corner.y() && c.x() >= corner.x()) ||
+                          (c.x() == corner.x() && c.y() <= corner.y());
+    return in_walls ? CellClass::kStatic : CellClass::kFree;
+  };
+  EXPECT_TRUE(detail::endsAStructure(corner, class_of));
+  EXPECT_FALSE(detail::endsAStructure(CellIndex(corner.x() + 2, corner.y()), class_of));
+  Ray ray;
+  ray.origin = g.cellCenter(CellIndex(8, 32)) + Eigen::Vector2d(0.004, 0.0);
+  ray.end = g.cellCenter(far_wall);
+  ray.angle = std::atan2(ray.end.y() - ray.origin.y(), ray.end.x() - ray.origin.x());
+  ray.hit = true;
+  // Its return on static structure agrees with the map: nothing blocks it.
+  EXPECT_LT(firstPassThroughDistance(ray, g, 0.15, class_of, never), 0.0);
+  // Ending where the map has nothing, it passed through the structure: a reflection.
+  far_wall_static = false;
+  EXPECT_GT(firstPassThroughDistance(ray, g, 0.15, class_of, never), 0.0);
+  // Without a return, structure that reflects in its direction would have returned it.
+  far_wall_static = true;
+  ray.hit = false;
+  EXPECT_GT(firstPassThroughDistance(ray, g, 0.15, class_of, never), 0.0);
+  // Past the end of a wall drawn two cells thick at a shallow angle, a ray enters at the end
+  // cell and crosses cells inside the wall (obstacles on opposite sides of them) before leaving.
+  const CellIndex beyond(24, 32);
+  bool beyond_static = true;
+  auto thick_wall = [&](const CellIndex& c) {
+    if (c == beyond) return beyond_static ? CellClass::kStatic : CellClass::kFree;
+    return (c.x() == 20 || c.x() == 21) && c.y() >= 20 ? CellClass::kStatic : CellClass::kFree;
+  };
+  EXPECT_TRUE(detail::endsAStructure(CellIndex(21, 20), thick_wall));
+  EXPECT_FALSE(detail::endsAStructure(CellIndex(21, 21), thick_wall));
+  ray.origin = Eigen::Vector2d(20.3, 16.0) * g.resolution();
+  ray.end = g.cellCenter(beyond) - Eigen::Vector2d(0.2, 0.0) * g.resolution();
+  ray.angle = std::atan2(ray.end.y() - ray.origin.y(), ray.end.x() - ray.origin.x());
+  ray.hit = true;
+  EXPECT_LT(firstPassThroughDistance(ray, g, 0.15, thick_wall, never), 0.0);
+  beyond_static = false;
+  EXPECT_GT(firstPassThroughDistance(ray, g, 0.15, thick_wall, never), 0.0);
+  // Inside a surface (obstacles on opposite sides of the cell) a return on structure is cut.
+  ray.hit = true;
+  ray.origin = {0.01, 0.01};
+  ray.end = {3.01, 0.01};
+  ray.angle = 0.0;
+  const CellIndex column = g.cellOf({1.0, 0.01});
+  auto wall_across = [&](const CellIndex& c) {
+    return c.x() == column.x() || c == g.cellOf(ray.end) ? CellClass::kStatic : CellClass::kFree;
+  };
+  EXPECT_NEAR(firstPassThroughDistance(ray, g, 0.15, wall_across, never), 1.025 - 0.01, 1e-9);
+}
+
 // A wall seen through a glass pane: once the pane is known, rays through it are reflections
 // and the wall behind does not enter the map from them.
 TEST(ReflectionRemoval, WallSeenThroughGlassIsAReflection) {

@@ -9,6 +9,8 @@
 #include <Eigen/Core>
 
 #include <cmath>
+#include <cstdlib>
+#include <optional>
 
 namespace rfm::detail {
 
@@ -37,18 +39,51 @@ bool staticCellLetsPass(const uint64_t* mask, int words, int bin, int bins, int 
   return reflectiveNear(mask, bin, bins) && !beside_glass_or_metal();
 }
 
+// Whether the obstacle neighbours of `cell` (8-neighbourhood) all lie within 90 deg of their mean
+// direction, on one side of it: the end of a structure (a door jamb, a room's corner, the flank of
+// a pillar), not a cell inside a surface, which has obstacles on opposite sides.
+template <typename ClassOf>
+bool endsAStructure(const CellIndex& cell, ClassOf&& class_of) {
+  int offsets[8][2];
+  int count = 0, sum_x = 0, sum_y = 0;
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      if ((dx == 0 && dy == 0) || !isObstacle(class_of(CellIndex(cell.x() + dx, cell.y() + dy)))) {
+        continue;
+      }
+      offsets[count][0] = dx;
+      offsets[count][1] = dy;
+      ++count;
+      sum_x += dx;
+      sum_y += dy;
+    }
+  }
+  for (int i = 0; i < count; ++i) {
+    if (offsets[i][0] * sum_x + offsets[i][1] * sum_y <= 0) return false;
+  }
+  return count > 0;
+}
+
 // Reflection check of Alg. 3, fed cell by cell along a ray: finds the first blocking cell the
 // ray passes through. A blocking cell is glass or metal, or static and not reflective in the
 // ray's direction (reflective_near: staticCellLetsPass), that the ray passes through near its
 // centre (not a clipped corner). For a ray without a return every static cell blocks: structure
 // that reflects in its direction would have returned it (a dropout), so nothing beyond was
-// observed. Passing through means crossing it: the ray comes out into a non-obstacle cell more than
-// `penetration_tolerance` before its end. A ray grazing along a wall stays inside the wall's cells
-// up to its end, and a ray ending on a surface ends within the tolerance: neither counts.
+// observed. Nor does a static cell block a return on static structure where the ray entered its
+// structure at a cell that ends it: a cell is wider than a surface, and a ray through a doorway
+// or past a pillar crosses the jamb's or the flank's cell beside the structure in it, and then,
+// passing at a shallow angle, the next cells of a wall drawn two cells thick. Its return agrees
+// with the map. Passing through means crossing it: the ray comes out into a non-obstacle cell more
+// than `penetration_tolerance` before its end. A ray grazing along a wall stays inside the wall's
+// cells up to its end, and a ray ending on a surface ends within the tolerance: neither counts.
 class PassThroughDetector {
  public:
   PassThroughDetector(const Ray& ray, const GridGeometry& geometry, double penetration_tolerance)
-      : geometry_(geometry), origin_(ray.origin), angle_(ray.angle), returned_(ray.hit) {
+      : geometry_(geometry),
+        origin_(ray.origin),
+        end_(ray.end),
+        angle_(ray.angle),
+        returned_(ray.hit) {
     const Eigen::Vector2d delta = ray.end - ray.origin;
     const double length = delta.norm();
     direction_ = length > 0.0 ? Eigen::Vector2d(delta / length) : Eigen::Vector2d(1.0, 0.0);
@@ -69,8 +104,21 @@ class PassThroughDetector {
       return false;
     }
     if (blocked_at_ < 0.0) {
-      const bool blocking = c == CellClass::kGlass || c == CellClass::kMetal ||
-                            (c == CellClass::kStatic && (!returned_ || !reflective_near(bin())));
+      // A structure's cells come one after another; a cell not touching the last one enters a
+      // structure anew.
+      if (blocksRays(c)) {
+        if (!(run_start_ && std::abs(cell.x() - last_visited_.x()) <= 1 &&
+              std::abs(cell.y() - last_visited_.y()) <= 1)) {
+          run_start_ = cell;
+          run_start_class_ = c;
+          run_enters_at_end_ = -1;
+        }
+        last_visited_ = cell;
+      }
+      const bool blocking =
+          c == CellClass::kGlass || c == CellClass::kMetal ||
+          (c == CellClass::kStatic &&
+           (!returned_ || (!reflective_near(bin()) && !passesAStructureEnd(class_of))));
       if (blocking && passesNearCentre(cell) && crossesASurface(cell, class_of)) {
         blocked_at_ = along;
       }
@@ -97,6 +145,21 @@ class PassThroughDetector {
   int bin() {
     if (bin_ < 0) bin_ = geometry_.binOf(angle_);
     return bin_;
+  }
+
+  // A return on static structure, the ray having entered the current structure at a cell that
+  // ends it (endsAStructure).
+  template <typename ClassOf>
+  bool passesAStructureEnd(ClassOf&& class_of) {
+    if (ends_on_static_ < 0) {
+      ends_on_static_ = class_of(geometry_.cellOf(end_)) == CellClass::kStatic;
+    }
+    if (ends_on_static_ == 0) return false;
+    if (run_enters_at_end_ < 0) {
+      run_enters_at_end_ =
+          run_start_class_ == CellClass::kStatic && endsAStructure(*run_start_, class_of);
+    }
+    return run_enters_at_end_ == 1;
   }
 
   // A ray crossing a one-cell-thick surface passes within half a cell of the centre of one of
@@ -129,10 +192,18 @@ class PassThroughDetector {
 
   const GridGeometry& geometry_;
   Eigen::Vector2d origin_;
+  Eigen::Vector2d end_;
   Eigen::Vector2d direction_;
   double angle_;
   bool returned_;  // the ray ends in a return (a hit), not at the clearing distance
   int bin_ = -1;
+  int ends_on_static_ = -1;  // whether the ray ends in a static cell; -1 until asked
+  // The structure the walk is in: the cell it entered at, and whether that cell ends the
+  // structure (-1 until asked).
+  std::optional<CellIndex> run_start_;
+  CellClass run_start_class_ = CellClass::kUnknown;
+  int run_enters_at_end_ = -1;
+  CellIndex last_visited_ = CellIndex::Zero();
   double last_candidate_ = 0.0;
   double blocked_at_ = -1.0;
   bool decided_ = false;
