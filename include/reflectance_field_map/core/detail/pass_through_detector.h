@@ -105,12 +105,11 @@ class PassThroughDetector {
     }
     if (blocked_at_ < 0.0) {
       // A structure's cells come one after another; a cell not touching the last one enters a
-      // structure anew.
-      if (blocksRays(c)) {
+      // structure anew. Only a return can pass a structure's end (passesAStructureEnd).
+      if (returned_ && blocksRays(c)) {
         if (!(run_start_ && std::abs(cell.x() - last_visited_.x()) <= 1 &&
               std::abs(cell.y() - last_visited_.y()) <= 1)) {
           run_start_ = cell;
-          run_start_class_ = c;
           run_enters_at_end_ = -1;
         }
         last_visited_ = cell;
@@ -157,7 +156,7 @@ class PassThroughDetector {
     if (ends_on_static_ == 0) return false;
     if (run_enters_at_end_ < 0) {
       run_enters_at_end_ =
-          run_start_class_ == CellClass::kStatic && endsAStructure(*run_start_, class_of);
+          class_of(*run_start_) == CellClass::kStatic && endsAStructure(*run_start_, class_of);
     }
     return run_enters_at_end_ == 1;
   }
@@ -201,7 +200,6 @@ class PassThroughDetector {
   // The structure the walk is in: the cell it entered at, and whether that cell ends the
   // structure (-1 until asked).
   std::optional<CellIndex> run_start_;
-  CellClass run_start_class_ = CellClass::kUnknown;
   int run_enters_at_end_ = -1;
   CellIndex last_visited_ = CellIndex::Zero();
   double last_candidate_ = 0.0;
