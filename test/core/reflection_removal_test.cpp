@@ -157,6 +157,44 @@ TEST(FirstPassThroughDistance, AReturnOnStructurePassesTheEndOfAnother) {
   EXPECT_NEAR(firstPassThroughDistance(ray, g, 0.15, wall_across, never), 1.025 - 0.01, 1e-9);
 }
 
+TEST(FirstPassThroughDistance, AReturnComingOutWhereItWentInPassedBesideTheStructure) {
+  const GridGeometry g(0.05, 180);
+  auto never = [](const CellIndex&, int) { return false; };
+  // A wall two cells thick (x = 20 and 21, from y = 20 up), as drift leaves a wall seen twice. A
+  // ray heading right and down clips its lower end: it goes in at (20, 21), a cell inside the
+  // wall (obstacles on opposite sides), and comes out at (22, 20), below the wall's end, on the
+  // side it went in.
+  const CellIndex far_wall(35, 12);
+  bool far_wall_static = true;
+  auto class_of = [&](const CellIndex& c) {
+    if (c == far_wall) return far_wall_static ? CellClass::kStatic : CellClass::kFree;
+    return (c.x() == 20 || c.x() == 21) && c.y() >= 20 ? CellClass::kStatic : CellClass::kFree;
+  };
+  EXPECT_FALSE(detail::endsAStructure(CellIndex(20, 21), class_of));
+  auto at = [&](double x, double y) -> Eigen::Vector2d {
+    return Eigen::Vector2d(x, y) * g.resolution();
+  };
+  Ray ray;
+  ray.origin = at(10.0, 27.5);
+  ray.end = at(35.5, 12.2);
+  ray.angle = std::atan2(ray.end.y() - ray.origin.y(), ray.end.x() - ray.origin.x());
+  ray.hit = true;
+  // Its return on static structure agrees with the map: nothing blocks it.
+  EXPECT_LT(firstPassThroughDistance(ray, g, 0.15, class_of, never), 0.0);
+  // Ending where the map has nothing, it is cut where it clipped the wall.
+  far_wall_static = false;
+  EXPECT_GT(firstPassThroughDistance(ray, g, 0.15, class_of, never), 0.0);
+  // A ray crossing the wall away from its end comes out on the other side: cut.
+  far_wall_static = true;
+  ray.origin = at(10.0, 30.5);
+  ray.end = g.cellCenter(CellIndex(35, 30));
+  ray.angle = 0.0;
+  auto wall_and_far_wall = [&](const CellIndex& c) {
+    return c == CellIndex(35, 30) ? CellClass::kStatic : class_of(c);
+  };
+  EXPECT_GT(firstPassThroughDistance(ray, g, 0.15, wall_and_far_wall, never), 0.0);
+}
+
 // A wall seen through a glass pane: once the pane is known, rays through it are reflections
 // and the wall behind does not enter the map from them.
 TEST(ReflectionRemoval, WallSeenThroughGlassIsAReflection) {

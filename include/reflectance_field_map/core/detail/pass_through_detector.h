@@ -8,9 +8,10 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
-#include <optional>
 
 namespace rfm::detail {
 
@@ -73,9 +74,12 @@ bool endsAStructure(const CellIndex& cell, ClassOf&& class_of) {
 // structure at a cell that ends it: a cell is wider than a surface, and a ray through a doorway
 // or past a pillar crosses the jamb's or the flank's cell beside the structure in it, and then,
 // passing at a shallow angle, the next cells of a wall drawn two cells thick. Its return agrees
-// with the map. Passing through means crossing it: the ray comes out into a non-obstacle cell more
-// than `penetration_tolerance` before its end. A ray grazing along a wall stays inside the wall's
-// cells up to its end, and a ray ending on a surface ends within the tolerance: neither counts.
+// with the map. Nor does one block such a return where the ray comes out of the structure on the
+// side it went in (cameOutWhereItEntered): it clipped a jamb or a pillar that drift or a blurred
+// edge drew a cell wider than it is. Passing through means crossing it: the ray comes out into a
+// non-obstacle cell more than `penetration_tolerance` before its end. A ray grazing along a wall
+// stays inside the wall's cells up to its end, and a ray ending on a surface ends within the
+// tolerance: neither counts.
 class PassThroughDetector {
  public:
   PassThroughDetector(const Ray& ray, const GridGeometry& geometry, double penetration_tolerance)
@@ -107,9 +111,10 @@ class PassThroughDetector {
       // A structure's cells come one after another; a cell not touching the last one enters a
       // structure anew. Only a return can pass a structure's end (passesAStructureEnd).
       if (returned_ && blocksRays(c)) {
-        if (!(run_start_ && std::abs(cell.x() - last_visited_.x()) <= 1 &&
+        if (!(in_run_ && std::abs(cell.x() - last_visited_.x()) <= 1 &&
               std::abs(cell.y() - last_visited_.y()) <= 1)) {
           run_start_ = cell;
+          in_run_ = true;
           run_enters_at_end_ = -1;
         }
         last_visited_ = cell;
@@ -120,10 +125,19 @@ class PassThroughDetector {
            (!returned_ || (!reflective_near(bin()) && !passesAStructureEnd(class_of))));
       if (blocking && passesNearCentre(cell) && crossesASurface(cell, class_of)) {
         blocked_at_ = along;
+        blocked_at_static_ = returned_ && c == CellClass::kStatic;
       }
     } else if (!isObstacle(c)) {
+      if (blocked_at_static_ && endsOnStatic(class_of) &&
+          cameOutWhereItEntered(run_start_, cell, class_of)) {
+        blocked_at_ = -1.0;  // passed beside the structure, not through it
+        in_run_ = false;
+        return true;
+      }
       decided_ = true;  // came out on the other side
       return false;
+    } else if (isGlassOrMetal(c)) {
+      blocked_at_static_ = false;  // a pane behind its frame: cut as before
     }
     return true;
   }
@@ -146,19 +160,69 @@ class PassThroughDetector {
     return bin_;
   }
 
+  // Whether the ray ends in a static cell (asked once, when needed).
+  template <typename ClassOf>
+  bool endsOnStatic(ClassOf&& class_of) {
+    if (ends_on_static_ < 0) {
+      ends_on_static_ = class_of(geometry_.cellOf(end_)) == CellClass::kStatic;
+    }
+    return ends_on_static_ == 1;
+  }
+
   // A return on static structure, the ray having entered the current structure at a cell that
   // ends it (endsAStructure).
   template <typename ClassOf>
   bool passesAStructureEnd(ClassOf&& class_of) {
-    if (ends_on_static_ < 0) {
-      ends_on_static_ = class_of(geometry_.cellOf(end_)) == CellClass::kStatic;
-    }
-    if (ends_on_static_ == 0) return false;
+    if (!endsOnStatic(class_of)) return false;
     if (run_enters_at_end_ < 0) {
       run_enters_at_end_ =
-          class_of(*run_start_) == CellClass::kStatic && endsAStructure(*run_start_, class_of);
+          class_of(run_start_) == CellClass::kStatic && endsAStructure(run_start_, class_of);
     }
     return run_enters_at_end_ == 1;
+  }
+
+  // Whether the cell before `run_start`, where the ray went into the structure, and `exit`, the
+  // first cell after it, are joined by non-obstacle cells (4-neighbours) within the box around
+  // both widened by a cell: the ray then clipped a tip or a flank (a jamb or a pillar drawn a
+  // cell wider than it is, as drift leaves them) and came out on the side it entered from. A
+  // surface crossed parts the two; a structure walked through for more than kMaxBox cells
+  // counts as crossed.
+  template <typename ClassOf>
+  bool cameOutWhereItEntered(const CellIndex& run_start, const CellIndex& exit,
+                             ClassOf&& class_of) const {
+    constexpr int kMaxBox = 24;
+    const double step = 0.25 * geometry_.resolution();
+    const double start = (geometry_.cellCenter(run_start) - origin_).dot(direction_);
+    CellIndex entry = run_start;
+    bool found = false;
+    for (int k = 1; k <= 12 && !found; ++k) {  // back along the ray, up to three cells
+      entry = geometry_.cellOf(origin_ + direction_ * (start - step * k));
+      found = !isObstacle(class_of(entry));
+    }
+    if (!found) return false;
+    const int min_x = std::min(entry.x(), exit.x()) - 1, min_y = std::min(entry.y(), exit.y()) - 1;
+    const int width = std::max(entry.x(), exit.x()) + 2 - min_x;
+    const int height = std::max(entry.y(), exit.y()) + 2 - min_y;
+    if (width > kMaxBox || height > kMaxBox) return false;
+    uint8_t reached[kMaxBox * kMaxBox] = {};
+    CellIndex queue[kMaxBox * kMaxBox];
+    int head = 0, tail = 0;
+    queue[tail++] = entry;
+    reached[(entry.y() - min_y) * width + entry.x() - min_x] = 1;
+    while (head < tail) {
+      const CellIndex at = queue[head++];
+      if (at == exit) return true;
+      const CellIndex steps[4] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+      for (const CellIndex& s : steps) {
+        const CellIndex next = at + s;
+        const int x = next.x() - min_x, y = next.y() - min_y;
+        if (x < 0 || x >= width || y < 0 || y >= height || reached[y * width + x]) continue;
+        if (isObstacle(class_of(next))) continue;
+        reached[y * width + x] = 1;
+        queue[tail++] = next;
+      }
+    }
+    return false;
   }
 
   // A ray crossing a one-cell-thick surface passes within half a cell of the centre of one of
@@ -197,10 +261,12 @@ class PassThroughDetector {
   bool returned_;  // the ray ends in a return (a hit), not at the clearing distance
   int bin_ = -1;
   int ends_on_static_ = -1;  // whether the ray ends in a static cell; -1 until asked
-  // The structure the walk is in: the cell it entered at, and whether that cell ends the
-  // structure (-1 until asked).
-  std::optional<CellIndex> run_start_;
+  // The structure the walk is in (in_run_): the cell it entered at, and whether that cell ends
+  // the structure (-1 until asked).
+  CellIndex run_start_ = CellIndex::Zero();
+  bool in_run_ = false;
   int run_enters_at_end_ = -1;
+  bool blocked_at_static_ = false;  // a return blocked at a static cell (it may pass beside it)
   CellIndex last_visited_ = CellIndex::Zero();
   double last_candidate_ = 0.0;
   double blocked_at_ = -1.0;
