@@ -48,6 +48,16 @@ double firstPassThroughDistance(const Ray& ray, const GridGeometry& geometry,
   return detector.distance();
 }
 
+// A ray from `origin` to a return at `end` (m).
+Ray returnedRay(const Eigen::Vector2d& origin, const Eigen::Vector2d& end) {
+  Ray ray;
+  ray.origin = origin;
+  ray.end = end;
+  ray.angle = std::atan2(end.y() - origin.y(), end.x() - origin.x());
+  ray.hit = true;
+  return ray;
+}
+
 TEST(FirstPassThroughDistance, StopsWhereTheRayCrossesGlassOrAStaticSurface) {
   const GridGeometry g(0.05, 180);
   Ray ray;
@@ -114,11 +124,8 @@ TEST(FirstPassThroughDistance, AReturnOnStructurePassesTheEndOfAnother) {
   };
   EXPECT_TRUE(detail::endsAStructure(corner, class_of));
   EXPECT_FALSE(detail::endsAStructure(CellIndex(corner.x() + 2, corner.y()), class_of));
-  Ray ray;
-  ray.origin = g.cellCenter(CellIndex(8, 32)) + Eigen::Vector2d(0.004, 0.0);
-  ray.end = g.cellCenter(far_wall);
-  ray.angle = std::atan2(ray.end.y() - ray.origin.y(), ray.end.x() - ray.origin.x());
-  ray.hit = true;
+  Ray ray = returnedRay(g.cellCenter(CellIndex(8, 32)) + Eigen::Vector2d(0.004, 0.0),
+                        g.cellCenter(far_wall));
   // Its return on static structure agrees with the map: nothing blocks it.
   EXPECT_LT(firstPassThroughDistance(ray, g, 0.15, class_of, never), 0.0);
   // Ending where the map has nothing, it passed through the structure: a reflection.
@@ -138,10 +145,8 @@ TEST(FirstPassThroughDistance, AReturnOnStructurePassesTheEndOfAnother) {
   };
   EXPECT_TRUE(detail::endsAStructure(CellIndex(21, 20), thick_wall));
   EXPECT_FALSE(detail::endsAStructure(CellIndex(21, 21), thick_wall));
-  ray.origin = Eigen::Vector2d(20.3, 16.0) * g.resolution();
-  ray.end = g.cellCenter(beyond) - Eigen::Vector2d(0.2, 0.0) * g.resolution();
-  ray.angle = std::atan2(ray.end.y() - ray.origin.y(), ray.end.x() - ray.origin.x());
-  ray.hit = true;
+  ray = returnedRay(Eigen::Vector2d(20.3, 16.0) * g.resolution(),
+                    g.cellCenter(beyond) - Eigen::Vector2d(0.2, 0.0) * g.resolution());
   EXPECT_LT(firstPassThroughDistance(ray, g, 0.15, thick_wall, never), 0.0);
   beyond_static = false;
   EXPECT_GT(firstPassThroughDistance(ray, g, 0.15, thick_wall, never), 0.0);
@@ -174,11 +179,7 @@ TEST(FirstPassThroughDistance, AReturnComingOutWhereItWentInPassedBesideTheStruc
   auto at = [&](double x, double y) -> Eigen::Vector2d {
     return Eigen::Vector2d(x, y) * g.resolution();
   };
-  Ray ray;
-  ray.origin = at(10.0, 27.5);
-  ray.end = at(35.5, 12.2);
-  ray.angle = std::atan2(ray.end.y() - ray.origin.y(), ray.end.x() - ray.origin.x());
-  ray.hit = true;
+  Ray ray = returnedRay(at(10.0, 27.5), at(35.5, 12.2));
   // Its return on static structure agrees with the map: nothing blocks it.
   EXPECT_LT(firstPassThroughDistance(ray, g, 0.15, class_of, never), 0.0);
   // Ending where the map has nothing, it is cut where it clipped the wall.
