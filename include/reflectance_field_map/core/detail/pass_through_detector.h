@@ -185,8 +185,8 @@ class PassThroughDetector {
   // first cell after it, are joined by non-obstacle cells (4-neighbours) within the box around
   // both widened by a cell: the ray then clipped a tip or a flank (a jamb or a pillar drawn a
   // cell wider than it is, as drift leaves them) and came out on the side it entered from. A
-  // surface crossed parts the two; a structure walked through for more than kMaxBox cells
-  // counts as crossed.
+  // surface crossed parts the two; a box wider than kMaxBox cells (the ray walked through the
+  // structure for a metre or more) counts as crossed.
   template <typename ClassOf>
   bool cameOutWhereItEntered(const CellIndex& run_start, const CellIndex& exit,
                              ClassOf&& class_of) const {
