@@ -58,6 +58,13 @@ Ray returnedRay(const Eigen::Vector2d& origin, const Eigen::Vector2d& end) {
   return ray;
 }
 
+// A wall two cells thick (x = 20 and 21, from y = 20 up), as drift leaves a wall seen twice or a
+// surface on a cell boundary draws it, and one more cell, `extra`, static when `extra_static`.
+CellClass thickWallAnd(const CellIndex& c, const CellIndex& extra, bool extra_static) {
+  if (c == extra) return extra_static ? CellClass::kStatic : CellClass::kFree;
+  return (c.x() == 20 || c.x() == 21) && c.y() >= 20 ? CellClass::kStatic : CellClass::kFree;
+}
+
 TEST(FirstPassThroughDistance, StopsWhereTheRayCrossesGlassOrAStaticSurface) {
   const GridGeometry g(0.05, 180);
   Ray ray;
@@ -139,10 +146,7 @@ TEST(FirstPassThroughDistance, AReturnOnStructurePassesTheEndOfAnother) {
   // cell and crosses cells inside the wall (obstacles on opposite sides of them) before leaving.
   const CellIndex beyond(24, 32);
   bool beyond_static = true;
-  auto thick_wall = [&](const CellIndex& c) {
-    if (c == beyond) return beyond_static ? CellClass::kStatic : CellClass::kFree;
-    return (c.x() == 20 || c.x() == 21) && c.y() >= 20 ? CellClass::kStatic : CellClass::kFree;
-  };
+  auto thick_wall = [&](const CellIndex& c) { return thickWallAnd(c, beyond, beyond_static); };
   EXPECT_TRUE(detail::endsAStructure(CellIndex(21, 20), thick_wall));
   EXPECT_FALSE(detail::endsAStructure(CellIndex(21, 21), thick_wall));
   ray = returnedRay(Eigen::Vector2d(20.3, 16.0) * g.resolution(),
@@ -165,16 +169,12 @@ TEST(FirstPassThroughDistance, AReturnOnStructurePassesTheEndOfAnother) {
 TEST(FirstPassThroughDistance, AReturnComingOutWhereItWentInPassedBesideTheStructure) {
   const GridGeometry g(0.05, 180);
   auto never = [](const CellIndex&, int) { return false; };
-  // A wall two cells thick (x = 20 and 21, from y = 20 up), as drift leaves a wall seen twice. A
-  // ray heading right and down clips its lower end: it goes in at (20, 21), a cell inside the
-  // wall (obstacles on opposite sides), and comes out at (22, 20), below the wall's end, on the
-  // side it went in.
+  // The wall two cells thick of thickWallAnd. A ray heading right and down clips its lower end: it
+  // goes in at (20, 21), a cell inside the wall (obstacles on opposite sides), and comes out at
+  // (22, 20), below the wall's end, on the side it went in.
   const CellIndex far_wall(35, 12);
   bool far_wall_static = true;
-  auto class_of = [&](const CellIndex& c) {
-    if (c == far_wall) return far_wall_static ? CellClass::kStatic : CellClass::kFree;
-    return (c.x() == 20 || c.x() == 21) && c.y() >= 20 ? CellClass::kStatic : CellClass::kFree;
-  };
+  auto class_of = [&](const CellIndex& c) { return thickWallAnd(c, far_wall, far_wall_static); };
   EXPECT_FALSE(detail::endsAStructure(CellIndex(20, 21), class_of));
   auto at = [&](double x, double y) -> Eigen::Vector2d {
     return Eigen::Vector2d(x, y) * g.resolution();
