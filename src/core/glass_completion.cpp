@@ -139,13 +139,17 @@ bool GlassCompletion::describeRun(const ReflectanceField& field, const CellBox& 
 
 bool GlassCompletion::couldBeGlass(const ReflectanceField& field, const Run& run,
                                    const CellIndex& cell) {
-  // Glass on the line would have returned the rays near its normal: misses there rule it out.
-  // At the edges of its lobe glass returns only sometimes (its window jitters), so a cell
-  // counts as looked through only where it was missed in half of the run's bins.
-  size_t missed = 0;
-  for (int bin : run.return_bins)
-    missed += field.value(cell, bin) < 0;
-  return 2 * missed < run.return_bins.size();
+  // Glass on the line would have returned the rays near its normal, from either face: misses
+  // there rule it out. At the edges of its lobe glass returns only sometimes (its window
+  // jitters), so a cell counts as looked through only where it was missed in half of the run's
+  // bins, or of the opposite ones.
+  const GridGeometry& geometry = field.geometry();
+  size_t missed_facing = 0, missed_behind = 0;
+  for (int bin : run.return_bins) {
+    missed_facing += field.value(cell, bin) < 0;
+    missed_behind += field.value(cell, geometry.binOf(geometry.binCenter(bin) + kPi)) < 0;
+  }
+  return 2 * std::max(missed_facing, missed_behind) < run.return_bins.size();
 }
 
 bool GlassCompletion::returnsAcrossLine(const Run& run) const {

@@ -198,6 +198,17 @@ TEST_F(FacadeLine, GapLookedThroughNearTheNormalStaysOpen) {
   EXPECT_EQ(glassCells(-1.35, -0.35), 0);
 }
 
+TEST_F(FacadeLine, GapLookedThroughFromTheOtherFaceStaysOpen) {
+  addRun();
+  // The run returned from the south; the robot faced the gap from the north (270 deg), where
+  // glass would have returned as well.
+  for (double x = -1.325; x < -0.35; x += 0.05)
+    field_.applyMiss(field_.geometry().cellOf({x, 0.025}), kNormalBin + 90);
+  GlassCompletion completion(field_.geometry(), 2.0);
+  completion.complete(field_, box_, classes_);
+  EXPECT_EQ(glassCells(-1.35, -0.35), 0);
+}
+
 // A pane along y = 0 that the robot faced only in passing, as motion removal leaves it: walls
 // (static) at both ends, and between them a run of motion cells that returned near the pane's
 // normal and were missed from twelve other directions, 0.2 m short of each wall.

@@ -14,7 +14,8 @@ namespace rfm {
 // passes the reflection check. Such a stretch still leaves its trace in the field:
 //  - it continues a straight run of glass that is missed from many directions (transmission);
 //  - it ends at, or is broken by, structure on the same line (frames, mullions, a wall);
-//  - it was never looked through near the run's normal, where glass would have returned.
+//  - it was never looked through near the run's normal, from either face, where glass would
+//    have returned.
 // A free stretch with all three, no longer than `max_gap` between two pieces of structure, is
 // glass the robot has not faced yet. Other panes on the line close a stretch as structure does,
 // and the search along the line goes on past them, however long they are. An opening on the line
@@ -62,7 +63,8 @@ class GlassCompletion {
   // glass.
   bool describeRun(const ReflectanceField& field, const CellBox& box,
                    const std::vector<int>& members, Run& run);
-  // Whether `cell` was not looked through in half of the run's return bins.
+  // Whether `cell` was not looked through in half of the run's return bins, nor in half of the
+  // opposite bins (the pane's other face).
   static bool couldBeGlass(const ReflectanceField& field, const Run& run, const CellIndex& cell);
   // Whether the run's return bins lie near its normal, as glass returns.
   bool returnsAcrossLine(const Run& run) const;
