@@ -82,8 +82,8 @@ AnchorHistory::AnchorHistory(const ReflectanceField& field)
     : mask_words_(field.maskWords()),
       theta_bins_(field.geometry().thetaBins()),
       confirmed_ticks_(static_cast<size_t>(field.window().sizeCells()) * field.window().sizeCells(),
-                       0),
-      arrival_(confirmed_ticks_.size(), 0) {}
+                       PageKind::kOrdinary),
+      arrival_(confirmed_ticks_.size(), PageKind::kOrdinary) {}
 
 CellAnchoring AnchorRules::judge(const ReflectanceField& field, const AnchorHistory& history,
                                  int slot, int reflective_bins, bool widely_visible) const {
@@ -180,8 +180,8 @@ size_t AnchorHistory::bytes() const {
 void AnchorHistory::clear() {
   departure_.clear();
   certainty_.clear();
-  std::fill(confirmed_ticks_.begin(), confirmed_ticks_.end(), 0);
-  std::fill(arrival_.begin(), arrival_.end(), 0);
+  confirmed_ticks_.zeroWhereSet();
+  arrival_.zeroWhereSet();
 }
 
 void AnchorHistory::forgetTiles(const std::vector<TileIndex>& tiles, const RollingWindow& window) {

@@ -64,6 +64,12 @@ constexpr double kColumnMinTurn = kPi / 4.0;
 constexpr double kColumnMaxRmsCells = 1.0;
 constexpr uint32_t kColumnMinRuns = 5;
 
+// Gives a per-cell array `cells` entries, keeping its contents when it has them already.
+template <typename T>
+void keepCells(ZeroedHugeArray<T>& array, size_t cells) {
+  if (array.size() != cells) array = ZeroedHugeArray<T>(cells, PageKind::kOrdinary);
+}
+
 }  // namespace
 
 void MotionRemover::planTiles(const ReflectanceField& field, const CellBox& box) {
@@ -103,12 +109,8 @@ void MotionRemover::collectRuns(const ReflectanceField& field, const CellBox& bo
         size_t local = (y - box.min.y()) * width + (x_begin - box.min.x());
         const TileWork work = tile_work_[boxTileOf(x_begin, y)];
         if (work != TileWork::kComponents) {
-          // Band-relative run offsets for now; free-space cells need their slots later.
+          // Band-relative run offsets for now.
           std::fill_n(&cell_first_run_[local], x_end - x_begin, static_cast<uint32_t>(runs.size()));
-          if (work == TileWork::kFreeSpace) {
-            for (int x = x_begin; x < x_end; ++x)
-              slots_[local++] = slot++;
-          }
           return;
         }
         for (int x = x_begin; x < x_end; ++x, ++local, ++slot) {
@@ -381,7 +383,7 @@ void MotionRemover::classifyBand(const ReflectanceField& field, const CellBox& b
                                  MotionRemovalCounts& counts, std::vector<size_t>& glass) const {
   const size_t width = box.width();
   field.window().forEachTileSpan(
-      bandBox(box, band.first_row, band.end_row), [&](int y, int x_begin, int x_end, int) {
+      bandBox(box, band.first_row, band.end_row), [&](int y, int x_begin, int x_end, int slot) {
         const size_t begin = (y - box.min.y()) * width + (x_begin - box.min.x());
         const size_t end = begin + (x_end - x_begin);
         switch (tile_work_[boxTileOf(x_begin, y)]) {
@@ -395,8 +397,8 @@ void MotionRemover::classifyBand(const ReflectanceField& field, const CellBox& b
             return;
           }
           case TileWork::kFreeSpace:
-            for (size_t local = begin; local < end; ++local) {
-              classes[local] = rule_.classify(0, field.missedBinsAt(slots_[local]));
+            for (size_t local = begin; local < end; ++local, ++slot) {
+              classes[local] = rule_.classify(0, field.missedBinsAt(slot));
               counts.free_cells += classes[local] == CellClass::kFree;
             }
             return;
@@ -463,7 +465,7 @@ MotionRemovalCounts MotionRemover::classify(
   };
   planTiles(field, box);
   // Runs per band, then one run list with global indices.
-  slots_.resize(cells);
+  keepCells(slots_, cells);
   cell_first_run_.assign(cells + 1, 0);
   band_runs_.resize(parts);
   forEachBand([&](int p) { collectRuns(field, box, bands[p], band_runs_[p]); });
@@ -502,8 +504,9 @@ MotionRemovalCounts MotionRemover::classify(
         extent_[r] = {col, row, col, row};
     }
   });
-  anchor_cell_.assign(cells, 0);
-  solid_.assign(cells, 0);
+  // Written by joinBand for every cell with runs before classifyBand reads them there.
+  keepCells(anchor_cell_, cells);
+  keepCells(solid_, cells);
   // Each band unites only its own runs, so bands do not touch each other's trees.
   forEachBand([&](int p) { joinBand(field, history, box, bands[p], outside); });
   for (int p = 0; p + 1 < parts; ++p) {

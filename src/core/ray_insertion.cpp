@@ -30,14 +30,14 @@ bool clipRayLeavingBox(const Eigen::Vector2d& low, const Eigen::Vector2d& high, 
 
 void DeduplicatingRayInserter::prepare(size_t slots) {
   if (stamps_.size() != slots) {
-    stamps_.assign(slots, 0);
+    stamps_ = ZeroedHugeArray<uint16_t>(slots, PageKind::kOrdinary);
     stamp_ = 0;
   }
 }
 
 uint16_t DeduplicatingRayInserter::nextStamp() {
   if (++stamp_ == 0) {  // wrapped: old stamps could collide with the new ones
-    std::fill(stamps_.begin(), stamps_.end(), 0);
+    stamps_.zeroWhereSet();
     stamp_ = 1;
   }
   return stamp_;

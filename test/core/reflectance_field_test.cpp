@@ -318,6 +318,20 @@ TEST(ZeroedHugeArray, OrdinaryPagesAreResidentOnlyWhereWritten) {
   EXPECT_EQ(ZeroedHugeArray<int8_t>(small).pages(), PageKind::kOrdinary);  // copies keep it
 }
 
+// zeroWhereSet() zeroes an array again whatever was written where, without writing the pages
+// that hold only zeros (a large window's cell summaries between batch passes).
+TEST(ZeroedHugeArray, ZeroWhereSetZeroesEveryWrittenValue) {
+  constexpr size_t kHuge = ZeroedHugeArray<uint16_t>::kHugePageBytes;
+  ZeroedHugeArray<uint16_t> array(3 * kHuge + 7, PageKind::kOrdinary);
+  for (const size_t i : {size_t{0}, size_t{2047}, size_t{2048}, kHuge, array.size() - 1})
+    array[i] = 9;
+  array.zeroWhereSet();
+  EXPECT_EQ(std::count(array.begin(), array.end(), 0), static_cast<long>(array.size()));
+  array[5] = 1;  // the array is used again after it
+  EXPECT_EQ(std::count(array.begin(), array.end(), 0), static_cast<long>(array.size()) - 1);
+  ZeroedHugeArray<uint16_t>().zeroWhereSet();  // an empty array: nothing to do
+}
+
 // prefault() brings in every page at once (a live mapper's, before its first scan) and leaves
 // the zeros as they were.
 TEST(ZeroedHugeArray, PrefaultMakesEveryPageResidentAndKeepsTheZeros) {

@@ -8,6 +8,7 @@
 #include "reflectance_field_map/core/parallel_runner.h"
 #include "reflectance_field_map/core/reflectance_field.h"
 #include "reflectance_field_map/core/rolling_window.h"
+#include "reflectance_field_map/core/zeroed_huge_array.h"
 
 #include <cstdint>
 #include <limits>
@@ -183,12 +184,13 @@ class AnchorHistory {
 
   int mask_words_;
   int theta_bins_;
-  std::vector<uint8_t> confirmed_ticks_;  // by storage index
+  // Per cell, zero where the ticks never reached (untouched pages stay unmapped).
+  ZeroedHugeArray<uint8_t> confirmed_ticks_;  // by storage index
   // The arrival state of a cell now reflective: seen free (widely) becomes arrived (widely).
   static uint8_t arrive(uint8_t arrival);
   static constexpr uint8_t kSeenFree = 1, kArrived = 2, kSeenFreeWidely = 4, kArrivedWidely = 8;
-  std::vector<uint8_t> arrival_;  // by storage index: kSeenFree or kArrived, kSeenFreeWidely or
-                                  // kArrivedWidely
+  // By storage index: kSeenFree or kArrived, kSeenFreeWidely or kArrivedWidely.
+  ZeroedHugeArray<uint8_t> arrival_;
   std::unordered_map<int, DepartureHistory> departure_;  // by storage index
   std::unordered_map<int, CertaintyHistory> certainty_;  // by storage index
 };

@@ -6,6 +6,7 @@
 #include "reflectance_field_map/core/occupancy.h"
 #include "reflectance_field_map/core/parallel_runner.h"
 #include "reflectance_field_map/core/reflectance_field.h"
+#include "reflectance_field_map/core/zeroed_huge_array.h"
 
 #include <cstdint>
 #include <functional>
@@ -144,7 +145,9 @@ class MotionRemover {
   std::vector<Run> runs_;
   std::vector<std::vector<Run>> band_runs_;  // per band, before joining into runs_
   std::vector<uint32_t> cell_first_run_;     // CSR over box cells, size cells + 1
-  std::vector<int> slots_;                   // storage slot of each box cell
+  // Per box cell, written and read only in the tiles that hold components (kComponents): a large
+  // box's other pages stay unmapped.
+  ZeroedHugeArray<int> slots_;  // storage slot of each box cell
   std::vector<uint32_t> parent_;
   std::vector<uint8_t> rank_;
   // Per root, what anchors it: kAnchoredFirmly (a widely visible cell, a known static cell beside
@@ -159,11 +162,10 @@ class MotionRemover {
   struct Extent {
     int16_t min_x, min_y, max_x, max_y;  // box-local cells
   };
-  std::vector<Extent> extent_;  // per root: bounding box of its cells
-  std::vector<uint32_t> root_;  // final root of each run
-  std::vector<uint8_t>
-      anchor_cell_;             // per box cell: anchors (widely visible or solid), drawn static
-  std::vector<uint8_t> solid_;  // per box cell (AnchorRules::solid_max_missed_ratio)
+  std::vector<Extent> extent_;            // per root: bounding box of its cells
+  std::vector<uint32_t> root_;            // final root of each run
+  ZeroedHugeArray<uint8_t> anchor_cell_;  // per box cell: anchors (widely visible or solid)
+  ZeroedHugeArray<uint8_t> solid_;        // per box cell (AnchorRules::solid_max_missed_ratio)
   std::vector<std::vector<size_t>> band_glass_;  // per band: its glass and metal cells
 
   // Round columns (anchorRoundColumns): a fit per component that is not yet structure.

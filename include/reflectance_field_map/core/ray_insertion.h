@@ -6,6 +6,7 @@
 #include "reflectance_field_map/core/laser_scan.h"
 #include "reflectance_field_map/core/ray_traversal.h"
 #include "reflectance_field_map/core/rolling_window.h"
+#include "reflectance_field_map/core/zeroed_huge_array.h"
 
 #include <algorithm>
 #include <cmath>
@@ -86,7 +87,7 @@ class alignas(64) DeduplicatingRayInserter {
   // Two bytes per slot: the stamps are cleared every 65535 groups. One byte would clear them
   // every 255 groups (about two scans): for the batch's window of the whole recording (590 k
   // slots on curved glass), 3 % of its instructions.
-  std::vector<uint16_t> stamps_;
+  ZeroedHugeArray<uint16_t> stamps_;  // zero where no ray went: those pages stay unmapped
   uint16_t stamp_ = 0;
   size_t updates_ = 0;
 };

@@ -254,6 +254,10 @@ class ReflectanceField {
   void prefault() {
     bins_.prefault();
     reflective_masks_.prefault();
+    missed_bins_.prefault();
+    hit_flags_.prefault();
+    confident_miss_since_tick_.prefault();
+    reflective_bins_.prefault();
   }
 
   // Binary state (window origin, active bins, archive) for save/load.
@@ -300,14 +304,16 @@ class ReflectanceField {
   size_t plane_;  // cells in one theta slice of the window
   int mask_words_;
   bool centred_ = false;
-  ZeroedHugeArray<int8_t> bins_;                    // [bin][y][x]
-  ZeroedHugeArray<uint64_t> reflective_masks_;      // [y][x][word]
-  std::vector<uint16_t> missed_bins_;               // [y][x]
-  std::vector<uint8_t> hit_flags_;                  // [y][x], kHitSinceTick | kEverHit
-  std::vector<uint8_t> confident_miss_since_tick_;  // [y][x]
-  std::vector<uint16_t> reflective_bins_;           // [y][x]
-  std::vector<int> tile_reflective_cells_;          // per storage tile
-  std::vector<uint32_t> tile_versions_;             // per storage tile
+  ZeroedHugeArray<int8_t> bins_;                // [bin][y][x]
+  ZeroedHugeArray<uint64_t> reflective_masks_;  // [y][x][word]
+  // The cell summaries, zero where no ray has been: on a large window untouched pages stay
+  // unmapped, as the slices' do.
+  ZeroedHugeArray<uint16_t> missed_bins_;               // [y][x]
+  ZeroedHugeArray<uint8_t> hit_flags_;                  // [y][x], kHitSinceTick | kEverHit
+  ZeroedHugeArray<uint8_t> confident_miss_since_tick_;  // [y][x]
+  ZeroedHugeArray<uint16_t> reflective_bins_;           // [y][x]
+  std::vector<int> tile_reflective_cells_;              // per storage tile
+  std::vector<uint32_t> tile_versions_;                 // per storage tile
   // Per storage tile: a cell was hit, a bin became confidently missed, or a mask changed since
   // the last persistence tick. A tick changes nothing in the other tiles (AnchorHistory::tick).
   std::vector<uint8_t> tick_pending_;
