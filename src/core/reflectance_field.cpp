@@ -168,11 +168,6 @@ void ReflectanceField::clear() {
     // every slice of each reached tile would bring them in (the campus: 2.8 against 1.5 GB).
     bins_ = ZeroedHugeArray<int8_t>(bins_.size(), bins_.pages());
     reflective_masks_ = ZeroedHugeArray<uint64_t>(reflective_masks_.size(), bins_.pages());
-    // The summaries are far smaller: zeroed in place where set, their pages stay resident.
-    missed_bins_.zeroWhereSet();
-    hit_flags_.zeroWhereSet();
-    confident_miss_since_tick_.zeroWhereSet();
-    reflective_bins_.zeroWhereSet();
   } else {
     // Huge pages: the passes reach them nearly all. Zeros written in place over the tiles that
     // hold evidence cost less than faulting the window in again for the next batch pass (the
@@ -184,11 +179,13 @@ void ReflectanceField::clear() {
         std::fill_n(&bins_[bin * plane_ + first], cells, 0);
       std::fill_n(&reflective_masks_[first * mask_words_], cells * mask_words_, 0);
     }
-    std::fill(missed_bins_.begin(), missed_bins_.end(), 0);
-    std::fill(hit_flags_.begin(), hit_flags_.end(), 0);
-    std::fill(confident_miss_since_tick_.begin(), confident_miss_since_tick_.end(), 0);
-    std::fill(reflective_bins_.begin(), reflective_bins_.end(), 0);
   }
+  // The cell summaries are far smaller than the slices: zeroed in place where set (after the
+  // slices, whose clearing reads them), their written pages stay resident for the next pass.
+  missed_bins_.zeroWhereSet();
+  hit_flags_.zeroWhereSet();
+  confident_miss_since_tick_.zeroWhereSet();
+  reflective_bins_.zeroWhereSet();
   std::fill(tile_reflective_cells_.begin(), tile_reflective_cells_.end(), 0);
   std::fill(tick_pending_.begin(), tick_pending_.end(), 0);
   for (uint32_t& version : tile_versions_)

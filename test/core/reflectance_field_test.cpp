@@ -318,8 +318,9 @@ TEST(ZeroedHugeArray, OrdinaryPagesAreResidentOnlyWhereWritten) {
   EXPECT_EQ(ZeroedHugeArray<int8_t>(small).pages(), PageKind::kOrdinary);  // copies keep it
 }
 
-// zeroWhereSet() zeroes an array again whatever was written where, without writing the pages
-// that hold only zeros (a large window's cell summaries between batch passes).
+// zeroWhereSet() zeroes an array again whatever was written where, at either side of a page
+// boundary too (a large window's cell summaries between batch passes), and the array is usable
+// after it.
 TEST(ZeroedHugeArray, ZeroWhereSetZeroesEveryWrittenValue) {
   constexpr size_t kHuge = ZeroedHugeArray<uint16_t>::kHugePageBytes;
   ZeroedHugeArray<uint16_t> array(3 * kHuge + 7, PageKind::kOrdinary);
